@@ -1,0 +1,86 @@
+// The C++ side of a plugin: an estimator core fed with plain structs.
+//
+// A plugin derives from roam::Estimator, overrides the add*() inputs, and reports
+// its estimates with emitPose()/emitMap() and its path with trajectory(). The shim in
+// plugin_shim.hpp adapts it to the C ABI; tests use the class directly, without a bus.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "roam/types.hpp"
+
+namespace roam {
+
+enum class EstimatorState { kInitializing = 0, kTracking = 1, kFinished = 2, kFailed = 3 };
+
+class Estimator {
+ public:
+  virtual ~Estimator() = default;
+
+  // The known start pose (channel INITIAL_POSE): the anchor of `anchor = start_pose`.
+  virtual void setInitialPose(const Pose& /*start*/) {}
+  // Surveyed beacon positions (channel BEACONS); used only if the config says so.
+  virtual void setBeacons(const Map& /*surveyed*/) {}
+  virtual void addOdometry(const Odometry& odometry) = 0;
+  virtual void addRange(const Range& range) = 0;
+  // End of input: smoothers run their final solve here.
+  virtual void finish() { state_ = EstimatorState::kFinished; }
+
+  // The whole path; false if there is none yet. `force` is set at the end of input and on
+  // the host's periodic request; an estimator may refuse (false) an expensive path otherwise.
+  virtual bool trajectory(bool force, Path* path) {
+    (void)force;
+    (void)path;
+    return false;
+  }
+
+  // Poses emitted since the last call, oldest first.
+  Path takePoses();
+  // The map if it changed since the last call.
+  bool takeMap(Map* map);
+
+  EstimatorState state() const { return state_; }
+  int64_t odometryAccepted() const { return odometry_accepted_; }
+  int64_t odometryRejected() const { return odometry_rejected_; }
+  int64_t rangesAccepted() const { return ranges_accepted_; }
+  int64_t rangesRejected() const { return ranges_rejected_; }
+  const std::string& lastRejection() const { return last_rejection_; }
+  // Named rejection counts ("range: not finite" -> 3).
+  const std::map<std::string, int64_t>& rejections() const { return rejections_; }
+  // Estimator-specific diagnostics (effective sample size, solver cost, ...).
+  const std::map<std::string, double>& diagnostics() const { return diagnostics_; }
+
+  // Counts an input that was not used, with the reason (public: the shim's input checks
+  // reject non-finite values before the estimator sees them).
+  void rejectOdometry(const std::string& reason);
+  void rejectRange(const std::string& reason);
+
+ protected:
+  void emitPose(const Pose& pose) { pending_poses_.push_back(pose); }
+  void emitMap(const Map& map) {
+    map_ = map;
+    map_changed_ = true;
+  }
+  void acceptOdometry() { ++odometry_accepted_; }
+  void acceptRange() { ++ranges_accepted_; }
+  void setState(EstimatorState state) { state_ = state; }
+  void setDiagnostic(const std::string& key, double value) { diagnostics_[key] = value; }
+
+ private:
+  EstimatorState state_ = EstimatorState::kInitializing;
+  Path pending_poses_;
+  Map map_;
+  bool map_changed_ = false;
+  int64_t odometry_accepted_ = 0;
+  int64_t odometry_rejected_ = 0;
+  int64_t ranges_accepted_ = 0;
+  int64_t ranges_rejected_ = 0;
+  std::string last_rejection_;
+  std::map<std::string, int64_t> rejections_;
+  std::map<std::string, double> diagnostics_;
+};
+
+}  // namespace roam

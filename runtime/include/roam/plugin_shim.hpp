@@ -1,0 +1,103 @@
+// Adapts a roam::Estimator to the C plugin ABI (plugin_abi.h).
+//
+// In the plugin's shim file:
+//
+//   std::unique_ptr<roam::Estimator> makeSpectral(roam::Options& options) {
+//     SpectralConfig config;
+//     options.add("rank", &config.rank, "...").oneOf({4, 7});
+//     options.parse();
+//     return std::make_unique<SpectralEstimator>(config);
+//   }
+//   ROAM_DEFINE_PLUGIN("spectral", "Boots & Gordon 2013 spectral SLAM", makeSpectral)
+//
+// Every entry point catches exceptions, stores the message and returns ROAM_ERROR; nothing
+// crosses the boundary. Inputs that are not finite are rejected (and counted) here, before
+// the estimator sees them, so every plugin gets the same basic hygiene.
+#pragma once
+
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "roam/estimator.hpp"
+#include "roam/options.hpp"
+#include "roam/plugin_abi.h"
+
+namespace roam {
+namespace shim {
+
+using Factory = std::unique_ptr<Estimator> (*)(Options& options);
+
+// One plugin instance on the C side: the estimator and the buffers handed across.
+struct Instance {
+  std::unique_ptr<Estimator> estimator;
+  std::string last_error;
+  KeyValues effective;
+  std::vector<roam_kv> effective_view;
+  std::vector<roam_pose> poses;
+  std::vector<roam_beacon> beacons;
+  std::vector<roam_pose> path;
+  std::string last_rejection;
+  std::vector<std::string> diagnostic_keys;
+  std::vector<const char*> diagnostic_key_ptrs;
+  std::vector<double> diagnostic_values;
+};
+
+// Defined in the SDK library (plugin_shim.cpp).
+roam_pose toC(const Pose& pose);
+Pose fromC(const roam_pose& pose);
+roam_beacon toC(const Beacon& beacon);
+Beacon fromC(const roam_beacon& beacon);
+// "" if usable, else the reason (non-finite value, negative range, ...).
+std::string checkOdometry(const roam_odometry& odometry);
+std::string checkRange(const roam_range& range);
+void copyError(roam_error* error, const std::string& key, const std::string& message);
+
+roam_handle create(Factory factory, const roam_kv* config, int32_t num_config, roam_error* error);
+void destroy(roam_handle h);
+int describeConfig(roam_handle h, const roam_kv** config, int32_t* num_config);
+int setInitialPose(roam_handle h, const roam_pose* pose);
+int setBeacons(roam_handle h, const roam_beacon* beacons, int32_t num_beacons);
+int addOdometry(roam_handle h, const roam_odometry* odometry);
+int addRange(roam_handle h, const roam_range* range);
+int finish(roam_handle h);
+int pollPoses(roam_handle h, const roam_pose** poses, int32_t* num_poses);
+int pollMap(roam_handle h, int32_t* changed, const roam_beacon** beacons, int32_t* num_beacons);
+int pollTrajectory(roam_handle h, int32_t force, int32_t* available, const roam_pose** poses,
+                   int32_t* num_poses);
+int getStatus(roam_handle h, roam_status* status);
+const char* lastError(roam_handle h);
+
+}  // namespace shim
+}  // namespace roam
+
+#define ROAM_DEFINE_PLUGIN(NAME, DESCRIPTION, FACTORY)                                          \
+  extern "C" {                                                                                  \
+  static roam_handle roam_shim_create(const roam_kv* c, int32_t n, roam_error* e) {             \
+    return ::roam::shim::create(&FACTORY, c, n, e);                                             \
+  }                                                                                             \
+  __attribute__((visibility("default"))) const roam_plugin_descriptor* roam_plugin_entry(void) { \
+    static const roam_plugin_descriptor descriptor = {                                          \
+        ROAM_PLUGIN_ABI_VERSION,                                                                \
+        static_cast<uint32_t>(sizeof(roam_plugin_descriptor)),                                  \
+        NAME,                                                                                   \
+        DESCRIPTION,                                                                            \
+        &roam_shim_create,                                                                      \
+        &::roam::shim::destroy,                                                                 \
+        &::roam::shim::describeConfig,                                                          \
+        &::roam::shim::setInitialPose,                                                          \
+        &::roam::shim::setBeacons,                                                              \
+        &::roam::shim::addOdometry,                                                             \
+        &::roam::shim::addRange,                                                                \
+        &::roam::shim::finish,                                                                  \
+        &::roam::shim::pollPoses,                                                               \
+        &::roam::shim::pollMap,                                                                 \
+        &::roam::shim::pollTrajectory,                                                          \
+        &::roam::shim::getStatus,                                                               \
+        &::roam::shim::lastError,                                                               \
+    };                                                                                          \
+    return &descriptor;                                                                         \
+  }                                                                                             \
+  }

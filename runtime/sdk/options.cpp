@@ -1,0 +1,227 @@
+#include "roam/options.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace roam {
+namespace {
+
+std::string formatDouble(double value) {
+  std::ostringstream out;
+  out.precision(std::numeric_limits<double>::max_digits10);
+  out << value;
+  // Shortest form that parses back: try lower precisions first.
+  for (int precision = 1; precision <= 17; ++precision) {
+    std::ostringstream trial;
+    trial.precision(precision);
+    trial << value;
+    if (std::stod(trial.str()) == value) return trial.str();
+  }
+  return out.str();
+}
+
+size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string trim(const std::string& text) {
+  const auto begin = text.find_first_not_of(" \t\r\n");
+  if (begin == std::string::npos) return "";
+  const auto end = text.find_last_not_of(" \t\r\n");
+  return text.substr(begin, end - begin + 1);
+}
+
+}  // namespace
+
+std::string closestMatch(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  size_t best_distance = std::max<size_t>(2, word.size() / 3) + 1;
+  for (const auto& candidate : candidates) {
+    const size_t distance = editDistance(word, candidate);
+    if (distance < best_distance) {
+      best_distance = distance;
+      best = candidate;
+    }
+  }
+  return best;
+}
+
+Options::Option& Options::Option::min(double lower, bool inclusive) {
+  auto numeric = numeric_;
+  checks_.push_back([numeric, lower, inclusive]() -> std::string {
+    const double value = numeric();
+    if (inclusive ? value >= lower : value > lower) return "";
+    return std::string("a value ") + (inclusive ? ">= " : "> ") + formatDouble(lower);
+  });
+  return *this;
+}
+
+Options::Option& Options::Option::max(double upper, bool inclusive) {
+  auto numeric = numeric_;
+  checks_.push_back([numeric, upper, inclusive]() -> std::string {
+    const double value = numeric();
+    if (inclusive ? value <= upper : value < upper) return "";
+    return std::string("a value ") + (inclusive ? "<= " : "< ") + formatDouble(upper);
+  });
+  return *this;
+}
+
+Options::Option& Options::Option::oneOf(std::vector<std::string> choices) {
+  auto print = print_;
+  checks_.push_back([print, choices]() -> std::string {
+    const std::string value = print();
+    if (std::find(choices.begin(), choices.end(), value) != choices.end()) return "";
+    std::string expected = "one of";
+    for (size_t i = 0; i < choices.size(); ++i) expected += (i ? " | " : " ") + choices[i];
+    const std::string hint = closestMatch(value, choices);
+    if (!hint.empty()) expected += " (did you mean '" + hint + "'?)";
+    return expected;
+  });
+  return *this;
+}
+
+Options::Option& Options::Option::oneOf(std::vector<int> choices) {
+  std::vector<std::string> names;
+  for (int choice : choices) names.push_back(std::to_string(choice));
+  return oneOf(names);
+}
+
+Options::Option& Options::insert(std::unique_ptr<Option> option) {
+  options_.push_back(std::move(option));
+  return *options_.back();
+}
+
+Options::Option& Options::add(const std::string& key, double* target, const std::string& help) {
+  auto option = std::make_unique<Option>();
+  option->key_ = key;
+  option->help_ = help;
+  option->type_name_ = "a number";
+  option->parse_ = [target](const std::string& text) {
+    try {
+      size_t used = 0;
+      const double value = std::stod(text, &used);
+      if (used != text.size() || !std::isfinite(value)) return false;
+      *target = value;
+      return true;
+    } catch (const std::exception&) {
+      return false;
+    }
+  };
+  option->numeric_ = [target] { return *target; };
+  option->print_ = [target] { return formatDouble(*target); };
+  return insert(std::move(option));
+}
+
+Options::Option& Options::add(const std::string& key, int* target, const std::string& help) {
+  auto option = std::make_unique<Option>();
+  option->key_ = key;
+  option->help_ = help;
+  option->type_name_ = "an integer";
+  option->parse_ = [target](const std::string& text) {
+    try {
+      size_t used = 0;
+      const long value = std::stol(text, &used);
+      if (used != text.size() || value < std::numeric_limits<int>::min() ||
+          value > std::numeric_limits<int>::max())
+        return false;
+      *target = static_cast<int>(value);
+      return true;
+    } catch (const std::exception&) {
+      return false;
+    }
+  };
+  option->numeric_ = [target] { return static_cast<double>(*target); };
+  option->print_ = [target] { return std::to_string(*target); };
+  return insert(std::move(option));
+}
+
+Options::Option& Options::add(const std::string& key, bool* target, const std::string& help) {
+  auto option = std::make_unique<Option>();
+  option->key_ = key;
+  option->help_ = help;
+  option->type_name_ = "true or false";
+  option->parse_ = [target](const std::string& text) {
+    if (text == "true" || text == "1" || text == "yes" || text == "on") {
+      *target = true;
+      return true;
+    }
+    if (text == "false" || text == "0" || text == "no" || text == "off") {
+      *target = false;
+      return true;
+    }
+    return false;
+  };
+  option->numeric_ = [target] { return *target ? 1.0 : 0.0; };
+  option->print_ = [target] { return std::string(*target ? "true" : "false"); };
+  return insert(std::move(option));
+}
+
+Options::Option& Options::add(const std::string& key, std::string* target,
+                              const std::string& help) {
+  auto option = std::make_unique<Option>();
+  option->key_ = key;
+  option->help_ = help;
+  option->type_name_ = "a string";
+  option->parse_ = [target](const std::string& text) {
+    *target = text;
+    return true;
+  };
+  option->numeric_ = [] { return 0.0; };
+  option->print_ = [target] { return *target; };
+  return insert(std::move(option));
+}
+
+void Options::parse() {
+  std::vector<std::string> known;
+  for (const auto& option : options_) known.push_back(option->key_);
+  for (const auto& [raw_key, raw_value] : values_) {
+    const std::string key = trim(raw_key);
+    const std::string value = trim(raw_value);
+    auto it = std::find_if(options_.begin(), options_.end(),
+                           [&](const auto& option) { return option->key_ == key; });
+    if (it == options_.end()) {
+      std::string message = "unknown key '" + key + "'";
+      const std::string hint = closestMatch(key, known);
+      if (!hint.empty()) message += " (did you mean '" + hint + "'?)";
+      throw ConfigError(key, message);
+    }
+    if (!(*it)->parse_(value)) {
+      throw ConfigError(key, "expected " + (*it)->type_name_ + ", got '" + value + "'");
+    }
+    given_.push_back(key);
+  }
+  for (const auto& option : options_) {
+    for (const auto& check : option->checks_) {
+      const std::string expected = check();
+      if (!expected.empty()) {
+        throw ConfigError(option->key_,
+                          "expected " + expected + ", got '" + option->print_() + "'");
+      }
+    }
+  }
+}
+
+bool Options::given(const std::string& key) const {
+  return std::find(given_.begin(), given_.end(), key) != given_.end();
+}
+
+KeyValues Options::effective() const {
+  KeyValues out;
+  for (const auto& option : options_) out.emplace_back(option->key_, option->print_());
+  return out;
+}
+
+}  // namespace roam

@@ -1,0 +1,241 @@
+#include "roam/plugin_shim.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace roam {
+namespace shim {
+namespace {
+
+Instance* instance(roam_handle h) { return static_cast<Instance*>(h); }
+
+// Runs `body` on the instance; any exception becomes ROAM_ERROR with its message stored.
+template <typename Body>
+int guarded(roam_handle h, Body&& body) {
+  Instance* self = instance(h);
+  if (self == nullptr) return ROAM_ERROR;
+  try {
+    self->last_error.clear();
+    body(*self);
+    return ROAM_OK;
+  } catch (const std::exception& error) {
+    self->last_error = error.what();
+  } catch (...) {
+    self->last_error = "unknown exception";
+  }
+  if (self->last_error.empty()) self->last_error = "error with no message";
+  return ROAM_ERROR;
+}
+
+}  // namespace
+
+roam_pose toC(const Pose& pose) {
+  roam_pose out{};
+  out.utime = pose.utime;
+  out.x_m = pose.x_m;
+  out.y_m = pose.y_m;
+  out.heading_rad = pose.heading_rad;
+  for (int i = 0; i < 9; ++i) out.covariance[i] = pose.covariance[i];
+  return out;
+}
+
+Pose fromC(const roam_pose& pose) {
+  Pose out;
+  out.utime = pose.utime;
+  out.x_m = pose.x_m;
+  out.y_m = pose.y_m;
+  out.heading_rad = pose.heading_rad;
+  for (int i = 0; i < 9; ++i) out.covariance[i] = pose.covariance[i];
+  return out;
+}
+
+roam_beacon toC(const Beacon& beacon) {
+  roam_beacon out{};
+  out.id = beacon.id;
+  out.x_m = beacon.x_m;
+  out.y_m = beacon.y_m;
+  for (int i = 0; i < 4; ++i) out.covariance[i] = beacon.covariance[i];
+  return out;
+}
+
+Beacon fromC(const roam_beacon& beacon) {
+  Beacon out;
+  out.id = beacon.id;
+  out.x_m = beacon.x_m;
+  out.y_m = beacon.y_m;
+  for (int i = 0; i < 4; ++i) out.covariance[i] = beacon.covariance[i];
+  return out;
+}
+
+std::string checkOdometry(const roam_odometry& odometry) {
+  if (!std::isfinite(odometry.delta_distance_m) || !std::isfinite(odometry.delta_heading_rad))
+    return "not finite";
+  return "";
+}
+
+std::string checkRange(const roam_range& range) {
+  if (!std::isfinite(range.range_m)) return "not finite";
+  if (range.range_m <= 0.0) return "not positive";
+  if (!std::isfinite(range.sigma_m)) return "sigma not finite";
+  if (range.has_bearing && !std::isfinite(range.bearing_rad)) return "bearing not finite";
+  return "";
+}
+
+void copyError(roam_error* error, const std::string& key, const std::string& message) {
+  if (error == nullptr) return;
+  std::snprintf(error->key, sizeof(error->key), "%s", key.c_str());
+  std::snprintf(error->message, sizeof(error->message), "%s", message.c_str());
+}
+
+roam_handle create(Factory factory, const roam_kv* config, int32_t num_config,
+                   roam_error* error) {
+  try {
+    KeyValues values;
+    for (int32_t i = 0; i < num_config; ++i) {
+      values.emplace_back(config[i].key ? config[i].key : "", config[i].value ? config[i].value : "");
+    }
+    Options options(values);
+    auto self = std::make_unique<Instance>();
+    self->estimator = factory(options);
+    if (!self->estimator) {
+      copyError(error, "", "the plugin's factory returned no estimator");
+      return nullptr;
+    }
+    self->effective = options.effective();
+    for (const auto& [key, value] : self->effective) {
+      self->effective_view.push_back(roam_kv{key.c_str(), value.c_str()});
+    }
+    return self.release();
+  } catch (const ConfigError& config_error) {
+    copyError(error, config_error.key(), config_error.what());
+  } catch (const std::exception& other) {
+    copyError(error, "", other.what());
+  } catch (...) {
+    copyError(error, "", "unknown exception");
+  }
+  return nullptr;
+}
+
+void destroy(roam_handle h) { delete instance(h); }
+
+int describeConfig(roam_handle h, const roam_kv** config, int32_t* num_config) {
+  return guarded(h, [&](Instance& self) {
+    *config = self.effective_view.data();
+    *num_config = static_cast<int32_t>(self.effective_view.size());
+  });
+}
+
+int setInitialPose(roam_handle h, const roam_pose* pose) {
+  return guarded(h, [&](Instance& self) { self.estimator->setInitialPose(fromC(*pose)); });
+}
+
+int setBeacons(roam_handle h, const roam_beacon* beacons, int32_t num_beacons) {
+  return guarded(h, [&](Instance& self) {
+    Map map;
+    for (int32_t i = 0; i < num_beacons; ++i) map.push_back(fromC(beacons[i]));
+    self.estimator->setBeacons(map);
+  });
+}
+
+int addOdometry(roam_handle h, const roam_odometry* odometry) {
+  return guarded(h, [&](Instance& self) {
+    const std::string problem = checkOdometry(*odometry);
+    if (!problem.empty()) {
+      self.estimator->rejectOdometry(problem);
+      return;
+    }
+    self.estimator->addOdometry(
+        Odometry{odometry->utime, odometry->delta_distance_m, odometry->delta_heading_rad});
+  });
+}
+
+int addRange(roam_handle h, const roam_range* range) {
+  return guarded(h, [&](Instance& self) {
+    const std::string problem = checkRange(*range);
+    if (!problem.empty()) {
+      self.estimator->rejectRange(problem);
+      return;
+    }
+    Range in;
+    in.utime = range->utime;
+    in.beacon_id = range->beacon_id;
+    in.range_m = range->range_m;
+    in.sigma_m = range->sigma_m;
+    in.has_bearing = range->has_bearing != 0;
+    in.bearing_rad = range->bearing_rad;
+    self.estimator->addRange(in);
+  });
+}
+
+int finish(roam_handle h) {
+  return guarded(h, [&](Instance& self) { self.estimator->finish(); });
+}
+
+int pollPoses(roam_handle h, const roam_pose** poses, int32_t* num_poses) {
+  return guarded(h, [&](Instance& self) {
+    self.poses.clear();
+    for (const Pose& pose : self.estimator->takePoses()) self.poses.push_back(toC(pose));
+    *poses = self.poses.data();
+    *num_poses = static_cast<int32_t>(self.poses.size());
+  });
+}
+
+int pollMap(roam_handle h, int32_t* changed, const roam_beacon** beacons, int32_t* num_beacons) {
+  return guarded(h, [&](Instance& self) {
+    Map map;
+    *changed = self.estimator->takeMap(&map) ? 1 : 0;
+    self.beacons.clear();
+    for (const Beacon& beacon : map) self.beacons.push_back(toC(beacon));
+    *beacons = self.beacons.data();
+    *num_beacons = static_cast<int32_t>(self.beacons.size());
+  });
+}
+
+int pollTrajectory(roam_handle h, int32_t force, int32_t* available, const roam_pose** poses,
+                   int32_t* num_poses) {
+  return guarded(h, [&](Instance& self) {
+    Path path;
+    *available = self.estimator->trajectory(force != 0, &path) ? 1 : 0;
+    self.path.clear();
+    for (const Pose& pose : path) self.path.push_back(toC(pose));
+    *poses = self.path.data();
+    *num_poses = static_cast<int32_t>(self.path.size());
+  });
+}
+
+int getStatus(roam_handle h, roam_status* status) {
+  return guarded(h, [&](Instance& self) {
+    const Estimator& estimator = *self.estimator;
+    status->state = static_cast<int32_t>(estimator.state());
+    status->odometry_accepted = estimator.odometryAccepted();
+    status->odometry_rejected = estimator.odometryRejected();
+    status->ranges_accepted = estimator.rangesAccepted();
+    status->ranges_rejected = estimator.rangesRejected();
+    self.last_rejection = estimator.lastRejection();
+    status->last_rejection = self.last_rejection.c_str();
+    self.diagnostic_keys.clear();
+    self.diagnostic_values.clear();
+    // Per-reason rejection counts first, then the estimator's own diagnostics.
+    for (const auto& [reason, count] : estimator.rejections()) {
+      self.diagnostic_keys.push_back("rejected " + reason);
+      self.diagnostic_values.push_back(static_cast<double>(count));
+    }
+    for (const auto& [key, value] : estimator.diagnostics()) {
+      self.diagnostic_keys.push_back(key);
+      self.diagnostic_values.push_back(value);
+    }
+    self.diagnostic_key_ptrs.clear();
+    for (const auto& key : self.diagnostic_keys) self.diagnostic_key_ptrs.push_back(key.c_str());
+    status->num_values = static_cast<int32_t>(self.diagnostic_values.size());
+    status->keys = self.diagnostic_key_ptrs.data();
+    status->values = self.diagnostic_values.data();
+  });
+}
+
+const char* lastError(roam_handle h) {
+  Instance* self = instance(h);
+  return self == nullptr ? "no instance" : self->last_error.c_str();
+}
+
+}  // namespace shim
+}  // namespace roam

@@ -1,0 +1,195 @@
+#include "sim.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+namespace roam {
+namespace sim {
+namespace {
+
+// True (distance, heading change) per step for each path kind.
+struct Control {
+  double distance_m;
+  double dheading_rad;
+};
+
+std::vector<Control> lawnMowerControls(const SimConfig& c) {
+  // Straight lane of area_width_m, then a half-circle turn of diameter lane_spacing_m,
+  // alternating left and right, sweeping back and forth over area_height_m.
+  std::vector<Control> controls;
+  const double step_m = c.speed_mps * c.dt_s;
+  const double radius_m = 0.5 * c.lane_spacing_m;
+  const int lanes = std::max(1, static_cast<int>(std::floor(c.area_height_m / c.lane_spacing_m)) + 1);
+  int lane = 0;
+  bool sweeping_up = true;
+  while (static_cast<int>(controls.size()) < c.num_steps) {
+    const int straight_steps = std::max(1, static_cast<int>(std::lround(c.area_width_m / step_m)));
+    for (int i = 0; i < straight_steps; ++i) controls.push_back({step_m, 0.0});
+    // Left turns when sweeping up on even lanes, right on odd; reverse when sweeping down.
+    const bool left = ((lane % 2) == 0) == sweeping_up;
+    const int turn_steps = std::max(2, static_cast<int>(std::lround(M_PI * radius_m / step_m)));
+    const double dheading = (left ? 1.0 : -1.0) * M_PI / turn_steps;
+    const double arc_step_m = M_PI * radius_m / turn_steps;
+    for (int i = 0; i < turn_steps; ++i) controls.push_back({arc_step_m, dheading});
+    if (sweeping_up) {
+      if (++lane >= lanes - 1) sweeping_up = false;
+    } else {
+      if (--lane <= 0) sweeping_up = true;
+    }
+  }
+  controls.resize(c.num_steps);
+  return controls;
+}
+
+std::vector<Control> loopControls(const SimConfig& c) {
+  const double step_m = c.speed_mps * c.dt_s;
+  return std::vector<Control>(c.num_steps, Control{step_m, step_m / c.loop_radius_m});
+}
+
+std::vector<Control> randomWalkControls(const SimConfig& c, std::mt19937_64& rng,
+                                        const Pose& start) {
+  // Smooth turn rate (Ornstein-Uhlenbeck, 5 s time constant) plus a pull back to the box.
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<Control> controls;
+  const double step_m = c.speed_mps * c.dt_s;
+  const double tau_s = 5.0;
+  double turn_rate = 0.0;
+  double x = start.x_m, y = start.y_m, heading = start.heading_rad;
+  const double cx = start.x_m + 0.5 * c.area_width_m, cy = start.y_m + 0.5 * c.area_height_m;
+  for (int k = 0; k < c.num_steps; ++k) {
+    turn_rate += -turn_rate * c.dt_s / tau_s +
+                 c.turn_rate_sigma_radps * std::sqrt(2.0 * c.dt_s / tau_s) * normal(rng);
+    double rate = turn_rate;
+    const bool outside = std::abs(x - cx) > 0.5 * c.area_width_m || std::abs(y - cy) > 0.5 * c.area_height_m;
+    if (outside) {
+      const double to_centre = std::atan2(cy - y, cx - x);
+      rate += 0.5 * wrapAngle(to_centre - heading);
+    }
+    const double dheading = rate * c.dt_s;
+    controls.push_back({step_m, dheading});
+    x += step_m * std::cos(heading);
+    y += step_m * std::sin(heading);
+    heading += dheading;
+  }
+  return controls;
+}
+
+}  // namespace
+
+PathKind parsePathKind(const std::string& name) {
+  if (name == "random_walk") return PathKind::kRandomWalk;
+  if (name == "lawn_mower") return PathKind::kLawnMower;
+  if (name == "loop") return PathKind::kLoop;
+  throw std::invalid_argument("unknown path '" + name +
+                              "' (expected random_walk | lawn_mower | loop)");
+}
+
+SimRun simulate(const SimConfig& c) {
+  if (c.num_steps < 1) throw std::invalid_argument("num_steps must be >= 1");
+  if (c.dt_s <= 0.0) throw std::invalid_argument("dt_s must be > 0");
+  std::mt19937_64 rng(c.seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+
+  SimRun run;
+  run.start = c.start;
+  run.start.utime = c.start_utime;
+
+  std::vector<Control> controls;
+  switch (c.path) {
+    case PathKind::kLawnMower: controls = lawnMowerControls(c); break;
+    case PathKind::kLoop: controls = loopControls(c); break;
+    case PathKind::kRandomWalk: controls = randomWalkControls(c, rng, run.start); break;
+  }
+
+  // Ground truth and odometry.
+  const int64_t dt_us = static_cast<int64_t>(std::llround(c.dt_s * 1e6));
+  Pose pose = run.start;
+  run.ground_truth.push_back(pose);
+  for (int k = 0; k < c.num_steps; ++k) {
+    const Control& u = controls[k];
+    Pose next = pose;
+    next.utime = pose.utime + dt_us;
+    next.x_m = pose.x_m + u.distance_m * std::cos(pose.heading_rad);
+    next.y_m = pose.y_m + u.distance_m * std::sin(pose.heading_rad);
+    next.heading_rad = pose.heading_rad + u.dheading_rad;
+    run.ground_truth.push_back(next);
+    Odometry odo;
+    odo.utime = next.utime;
+    const double sigma_d = c.odo_distance_sigma_rel * u.distance_m + c.odo_distance_sigma_m;
+    odo.delta_distance_m = std::max(0.0, u.distance_m + sigma_d * normal(rng));
+    odo.delta_heading_rad = u.dheading_rad + c.odo_heading_sigma_rad * normal(rng);
+    run.odometry.push_back(odo);
+    pose = next;
+  }
+
+  // Beacons: given, or uniform around the swept area.
+  if (!c.beacons.empty()) {
+    run.beacons = c.beacons;
+  } else {
+    double min_x = 1e300, max_x = -1e300, min_y = 1e300, max_y = -1e300;
+    for (const Pose& p : run.ground_truth) {
+      min_x = std::min(min_x, p.x_m);
+      max_x = std::max(max_x, p.x_m);
+      min_y = std::min(min_y, p.y_m);
+      max_y = std::max(max_y, p.y_m);
+    }
+    for (int i = 0; i < c.num_beacons; ++i) {
+      Beacon b;
+      b.id = i;
+      b.x_m = min_x - c.beacon_margin_m + uniform(rng) * (max_x - min_x + 2 * c.beacon_margin_m);
+      b.y_m = min_y - c.beacon_margin_m + uniform(rng) * (max_y - min_y + 2 * c.beacon_margin_m);
+      run.beacons.push_back(b);
+    }
+  }
+
+  // Ranges.
+  auto measure = [&](const Pose& at, const Beacon& beacon) {
+    const double dx = beacon.x_m - at.x_m, dy = beacon.y_m - at.y_m;
+    const double true_range = std::hypot(dx, dy);
+    const bool wide = c.mixture_weight1 > 0.0 && uniform(rng) < c.mixture_weight1;
+    const double sigma = wide ? c.range_sigma1_m : c.range_sigma_m;
+    Range r;
+    r.utime = at.utime;
+    r.beacon_id = beacon.id;
+    r.range_m = c.range_scale * true_range + c.range_offset_m + sigma * normal(rng);
+    if (c.outlier_fraction > 0.0 && uniform(rng) < c.outlier_fraction) {
+      r.range_m = true_range + c.outlier_min_m + uniform(rng) * (c.outlier_max_m - c.outlier_min_m);
+    }
+    r.range_m = std::max(r.range_m, 1e-3);
+    r.sigma_m = c.range_sigma_reported_m;
+    if (c.bearing) {
+      r.has_bearing = true;
+      r.bearing_rad = wrapAngle(std::atan2(dy, dx) - at.heading_rad + c.bearing_sigma_rad * normal(rng));
+    }
+    return r;
+  };
+  if (c.schedule == RangeSchedule::kEveryStepAllBeacons) {
+    for (size_t k = 0; k < run.ground_truth.size(); ++k) {
+      for (const Beacon& beacon : run.beacons) {
+        if (c.range_dropout > 0.0 && uniform(rng) < c.range_dropout) continue;
+        run.ranges.push_back(measure(run.ground_truth[k], beacon));
+      }
+    }
+  } else {
+    const double period_s = 1.0 / c.range_rate_hz;
+    double next_time_s = period_s;
+    size_t next_beacon = 0;
+    for (size_t k = 1; k < run.ground_truth.size(); ++k) {
+      const double t_s = static_cast<double>(k) * c.dt_s;
+      while (next_time_s <= t_s + 1e-9) {
+        const Beacon& beacon = run.beacons[next_beacon];
+        next_beacon = (next_beacon + 1) % run.beacons.size();
+        next_time_s += period_s;
+        if (c.range_dropout > 0.0 && uniform(rng) < c.range_dropout) continue;
+        run.ranges.push_back(measure(run.ground_truth[k], beacon));
+      }
+    }
+  }
+  return run;
+}
+
+}  // namespace sim
+}  // namespace roam

@@ -1,0 +1,85 @@
+// roam::sim — seeded synthetic range-only SLAM runs with ground truth.
+//
+// Motion model (the same convention as dead reckoning, so noise-free odometry integrates
+// exactly to the ground truth):  x += d cos(theta);  y += d sin(theta);  theta += dtheta.
+// Odometry is the true (d, dtheta) of each step plus Gaussian noise. Ranges are taken at pose
+// times (the end of an odometry step) to beacons in the world frame:
+//   range = scale * |beacon - robot| + offset + noise,
+// noise ~ N(0, range_sigma) (or the two-component mixture), occasionally replaced by outliers.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "roam/types.hpp"
+
+namespace roam {
+namespace sim {
+
+enum class PathKind { kRandomWalk, kLawnMower, kLoop };
+enum class RangeSchedule {
+  kEveryStepAllBeacons,  // every pose sees every beacon (complete measurement matrix)
+  kRoundRobin            // one beacon at a time at range_rate_hz, cycling, like UWB
+};
+
+struct SimConfig {
+  uint64_t seed = 1;
+  int num_steps = 2000;          // odometry steps; poses = num_steps + 1
+  double dt_s = 0.2;             // time per step
+  double speed_mps = 1.0;
+  int64_t start_utime = 1000000;  // utime of the start pose
+  Pose start;                     // start pose (utime overwritten by start_utime)
+
+  PathKind path = PathKind::kLawnMower;
+  double area_width_m = 40.0;    // lawn-mower lane length / random-walk box width
+  double area_height_m = 30.0;   // lawn-mower sweep height / random-walk box height
+  double lane_spacing_m = 5.0;   // lawn-mower distance between lanes
+  double loop_radius_m = 15.0;   // loop path radius
+  double turn_rate_sigma_radps = 0.3;  // random walk: std of the smooth turn-rate process
+
+  // Beacons: given, or num_beacons uniform in the box [-margin, W+margin] x [-margin, H+margin]
+  // around the area swept by the robot (in the start frame for lawn-mower/random walk).
+  Map beacons;
+  int num_beacons = 4;
+  double beacon_margin_m = 10.0;
+
+  // Odometry noise: sigma_d = odo_distance_sigma_rel * d + odo_distance_sigma_m,
+  // sigma_dtheta = odo_heading_sigma_rad (per step).
+  double odo_distance_sigma_rel = 0.0;
+  double odo_distance_sigma_m = 0.0;
+  double odo_heading_sigma_rad = 0.0;
+
+  RangeSchedule schedule = RangeSchedule::kEveryStepAllBeacons;
+  double range_rate_hz = 2.0;       // round-robin rate (ranges per second, all beacons)
+  double range_dropout = 0.0;       // probability a scheduled range is missing
+  double range_sigma_m = 0.0;
+  double range_scale = 1.0;
+  double range_offset_m = 0.0;
+  double range_sigma_reported_m = 0.0;  // written into Range::sigma_m (0: unknown)
+  // Two-component mixture: with probability mixture_weight1 the noise has sigma range_sigma1_m.
+  double mixture_weight1 = 0.0;
+  double range_sigma1_m = 0.0;
+  double outlier_fraction = 0.0;    // fraction of ranges replaced by true + U(outlier_min, max)
+  double outlier_min_m = 5.0;
+  double outlier_max_m = 30.0;
+
+  bool bearing = false;
+  double bearing_sigma_rad = 0.0;
+};
+
+struct SimRun {
+  Pose start;                  // the known start pose (INITIAL_POSE)
+  Path ground_truth;           // num_steps + 1 poses, ground_truth[0] == start
+  std::vector<Odometry> odometry;  // odometry[k]: from pose k to pose k+1, utime of pose k+1
+  std::vector<Range> ranges;   // in time order
+  Map beacons;                 // true beacon positions
+};
+
+SimRun simulate(const SimConfig& config);
+
+// Parses "random_walk" | "lawn_mower" | "loop"; throws std::invalid_argument otherwise.
+PathKind parsePathKind(const std::string& name);
+
+}  // namespace sim
+}  // namespace roam
