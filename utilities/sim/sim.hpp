@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "dataset.hpp"
 #include "roam/types.hpp"
 
 namespace roam {
@@ -68,13 +69,9 @@ struct SimConfig {
   double bearing_sigma_rad = 0.0;
 };
 
-struct SimRun {
-  Pose start;                  // the known start pose (INITIAL_POSE)
-  Path ground_truth;           // num_steps + 1 poses, ground_truth[0] == start
-  std::vector<Odometry> odometry;  // odometry[k]: from pose k to pose k+1, utime of pose k+1
-  std::vector<Range> ranges;   // in time order
-  Map beacons;                 // true beacon positions
-};
+// ground_truth has num_steps + 1 poses (ground_truth[0] == start); odometry[k] moves from
+// pose k to pose k+1 and carries pose k+1's utime; ranges are in time order; beacons are true.
+using SimRun = Dataset;
 
 SimRun simulate(const SimConfig& config);
 

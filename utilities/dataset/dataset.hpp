@@ -1,0 +1,19 @@
+// A run as plain structs: what roam-import reads from CSV, roam-sim generates, and the log
+// writer turns into ODOMETRY / RANGE / GROUND_TRUTH / INITIAL_POSE / BEACONS events.
+#pragma once
+
+#include <vector>
+
+#include "roam/types.hpp"
+
+namespace roam {
+
+struct Dataset {
+  Pose start;                      // the known start pose (INITIAL_POSE)
+  Path ground_truth;               // for scoring only; may be empty
+  std::vector<Odometry> odometry;  // in time order; odometry[k] ends at its utime
+  std::vector<Range> ranges;       // in time order
+  Map beacons;                     // surveyed / true beacon positions (BEACONS)
+};
+
+}  // namespace roam
