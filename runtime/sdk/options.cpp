@@ -1,6 +1,7 @@
 #include "roam/options.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -8,18 +9,11 @@
 namespace roam {
 namespace {
 
+// The shortest text that parses back to the same double.
 std::string formatDouble(double value) {
-  std::ostringstream out;
-  out.precision(std::numeric_limits<double>::max_digits10);
-  out << value;
-  // Shortest form that parses back: try lower precisions first.
-  for (int precision = 1; precision <= 17; ++precision) {
-    std::ostringstream trial;
-    trial.precision(precision);
-    trial << value;
-    if (std::stod(trial.str()) == value) return trial.str();
-  }
-  return out.str();
+  char text[64];
+  const auto result = std::to_chars(text, text + sizeof(text), value);
+  return std::string(text, result.ptr);
 }
 
 size_t editDistance(const std::string& a, const std::string& b) {
@@ -81,19 +75,20 @@ Options::Option& Options::Option::max(double upper, bool inclusive) {
 
 Options::Option& Options::Option::oneOf(std::vector<std::string> choices) {
   auto print = print_;
-  checks_.push_back([print, choices]() -> std::string {
+  const bool hint_spelling = type_name_ == "a string";
+  checks_.push_back([print, choices, hint_spelling]() -> std::string {
     const std::string value = print();
     if (std::find(choices.begin(), choices.end(), value) != choices.end()) return "";
     std::string expected = "one of";
     for (size_t i = 0; i < choices.size(); ++i) expected += (i ? " | " : " ") + choices[i];
-    const std::string hint = closestMatch(value, choices);
+    const std::string hint = hint_spelling ? closestMatch(value, choices) : "";
     if (!hint.empty()) expected += " (did you mean '" + hint + "'?)";
     return expected;
   });
   return *this;
 }
 
-Options::Option& Options::Option::oneOf(std::vector<int> choices) {
+Options::Option& Options::Option::oneOf(std::initializer_list<int> choices) {
   std::vector<std::string> names;
   for (int choice : choices) names.push_back(std::to_string(choice));
   return oneOf(names);

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <functional>
+#include <initializer_list>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -41,7 +42,7 @@ class Options {
     Option& min(double lower, bool inclusive = true);
     Option& max(double upper, bool inclusive = true);
     Option& oneOf(std::vector<std::string> choices);
-    Option& oneOf(std::vector<int> choices);
+    Option& oneOf(std::initializer_list<int> choices);
 
    private:
     friend class Options;

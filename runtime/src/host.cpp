@@ -1,0 +1,264 @@
+#include "host.hpp"
+
+#include <cstdio>
+#include <cstring>
+#include <sstream>
+
+#include "abi_messages.hpp"
+#include "roam/estimator_status_t.hpp"
+
+namespace roam {
+namespace runtime {
+
+Host::Host(const RunConfig& config, std::vector<EstimatorSlot> estimators, Sink* output_sink,
+           Sink* input_sink)
+    : config_(config), estimators_(std::move(estimators)), sink_(output_sink),
+      input_sink_(input_sink) {}
+
+template <typename Message>
+void Host::publish(const std::string& channel, const Message& message) {
+  const int size = message.getEncodedSize();
+  buffer_.resize(static_cast<size_t>(size));
+  message.encode(buffer_.data(), 0, size);
+  sink_->write(channel, data_utime_, buffer_.data(), size);
+}
+
+bool Host::acceptInOrder(const std::string& channel, int64_t utime, const void* data, int size) {
+  ChannelHistory& history = history_[channel];
+  const auto* bytes = static_cast<const uint8_t*>(data);
+  if (utime == history.last_utime && history.last_payload.size() == static_cast<size_t>(size) &&
+      std::memcmp(history.last_payload.data(), bytes, static_cast<size_t>(size)) == 0) {
+    ++counters_.duplicates;
+    return false;
+  }
+  if (utime < history.last_utime) {
+    ++counters_.out_of_order;
+    if (!history.warned) {
+      std::fprintf(stderr, "roam-run: warning: %s: utime went backwards (%lld after %lld); "
+                   "such messages are skipped and counted\n", channel.c_str(),
+                   static_cast<long long>(utime), static_cast<long long>(history.last_utime));
+      history.warned = true;
+    }
+    return false;
+  }
+  history.last_utime = utime;
+  history.last_payload.assign(bytes, bytes + size);
+  if (!have_data_utime_ || utime > data_utime_) data_utime_ = utime;
+  have_data_utime_ = true;
+  return true;
+}
+
+void Host::onEvent(const std::string& channel, int64_t event_utime, const void* data, int size) {
+  ++counters_.events;
+  if (input_sink_ != nullptr) input_sink_->write(channel, event_utime, data, size);
+  if (channel == config_.odometry_channel) {
+    feedOdometry(data, size);
+  } else if (channel == config_.range_channel) {
+    feedRange(data, size);
+  } else if (channel == config_.initial_pose_channel) {
+    feedInitialPose(data, size);
+  } else if (channel == config_.beacons_channel) {
+    feedBeacons(data, size);
+  } else {
+    return;  // GROUND_TRUTH and anything else: not for the estimators
+  }
+  for (auto& slot : estimators_) publishOutputs(slot, false);
+}
+
+namespace {
+template <typename Message>
+bool decode(const void* data, int size, Message* message) {
+  return message->decode(data, 0, size) >= 0;
+}
+}  // namespace
+
+void Host::feedOdometry(const void* data, int size) {
+  roam::odometry_t message;
+  if (!decode(data, size, &message)) {
+    ++counters_.undecodable;
+    ++counters_.undecodable_by_channel[config_.odometry_channel];
+    return;
+  }
+  if (!acceptInOrder(config_.odometry_channel, message.utime, data, size)) return;
+  ++counters_.odometry;
+  if (last_odometry_utime_ != INT64_MIN &&
+      static_cast<double>(message.utime - last_odometry_utime_) * 1e-6 > config_.max_odometry_gap_s) {
+    ++counters_.odometry_gaps;
+  }
+  last_odometry_utime_ = message.utime;
+  const roam_odometry odometry = abiFromMessage(message);
+  for (auto& slot : estimators_) slot.instance->addOdometry(odometry);
+}
+
+void Host::feedRange(const void* data, int size) {
+  roam::range_t message;
+  if (!decode(data, size, &message)) {
+    ++counters_.undecodable;
+    ++counters_.undecodable_by_channel[config_.range_channel];
+    return;
+  }
+  if (!acceptInOrder(config_.range_channel, message.utime, data, size)) return;
+  ++counters_.ranges;
+  const roam_range range = abiFromMessage(message);
+  for (auto& slot : estimators_) slot.instance->addRange(range);
+}
+
+void Host::feedInitialPose(const void* data, int size) {
+  roam::pose_t message;
+  if (!decode(data, size, &message)) {
+    ++counters_.undecodable;
+    ++counters_.undecodable_by_channel[config_.initial_pose_channel];
+    return;
+  }
+  if (!acceptInOrder(config_.initial_pose_channel, message.utime, data, size)) return;
+  const roam_pose pose = abiFromMessage(message);
+  for (auto& slot : estimators_) slot.instance->setInitialPose(pose);
+}
+
+void Host::feedBeacons(const void* data, int size) {
+  roam::map_t message;
+  if (!decode(data, size, &message)) {
+    ++counters_.undecodable;
+    ++counters_.undecodable_by_channel[config_.beacons_channel];
+    return;
+  }
+  if (!acceptInOrder(config_.beacons_channel, message.utime, data, size)) return;
+  const std::vector<roam_beacon> beacons = abiFromMessage(message);
+  for (auto& slot : estimators_) slot.instance->setBeacons(beacons);
+}
+
+void Host::publishOutputs(EstimatorSlot& slot, bool force_status) {
+  PluginInstance& instance = *slot.instance;
+  if (!instance.failed()) {
+    std::vector<roam_pose> poses;
+    if (instance.pollPoses(&poses)) {
+      for (const auto& pose : poses) {
+        publish(slot.section.pose_channel, poseMessage(pose, slot.section.name));
+        ++slot.poses_published;
+      }
+    }
+    bool changed = false;
+    std::vector<roam_beacon> beacons;
+    if (instance.pollMap(&changed, &beacons) && changed) {
+      publish(slot.section.map_channel, mapMessage(data_utime_, beacons, slot.section.name));
+    }
+  }
+  if (instance.failed() && !slot.failure_reported) {
+    reportFailure(slot);
+    return;
+  }
+  const bool due = slot.last_status_utime == INT64_MIN ||
+                   static_cast<double>(data_utime_ - slot.last_status_utime) * 1e-6 >=
+                       config_.status_interval_s;
+  if (force_status || due) publishStatus(slot);
+}
+
+void Host::reportFailure(EstimatorSlot& slot) {
+  slot.failure_reported = true;
+  std::fprintf(stderr, "roam-run: estimator '%s' (plugin %s) failed: %s; it gets no more data\n",
+               slot.section.name.c_str(), slot.instance->pluginName().c_str(),
+               slot.instance->error().c_str());
+  publishStatus(slot);
+}
+
+void Host::publishTrajectory(EstimatorSlot& slot, bool force) {
+  if (slot.instance->failed()) return;
+  bool available = false;
+  std::vector<roam_pose> poses;
+  if (slot.instance->pollTrajectory(force, &available, &poses) && available) {
+    publish(slot.section.trajectory_channel, trajectoryMessage(data_utime_, poses, slot.section.name));
+    slot.last_trajectory_utime = data_utime_;
+  }
+  if (slot.instance->failed() && !slot.failure_reported) reportFailure(slot);
+}
+
+void Host::publishStatus(EstimatorSlot& slot) {
+  PluginInstance& instance = *slot.instance;
+  const PluginInstance::Status status = instance.status();
+  roam::estimator_status_t message;
+  message.utime = data_utime_;
+  message.estimator = slot.section.name;
+  message.plugin = instance.pluginName();
+  message.state = static_cast<int8_t>(status.state);
+  message.odometry_accepted = status.odometry_accepted;
+  message.odometry_rejected = status.odometry_rejected;
+  message.ranges_accepted = status.ranges_accepted;
+  message.ranges_rejected = status.ranges_rejected;
+  message.last_rejection = status.last_rejection;
+  message.cpu_total_s = instance.cpuTotalSeconds();
+  message.cpu_last_update_s = instance.cpuLastSeconds();
+  message.last_error = instance.error();
+  message.num_values = static_cast<int32_t>(status.keys.size());
+  message.keys = status.keys;
+  message.values = status.values;
+  publish(slot.section.status_channel, message);
+  slot.last_status_utime = data_utime_;
+}
+
+void Host::maybeRequestTrajectories() {
+  if (config_.trajectory_interval_s <= 0.0) return;
+  for (auto& slot : estimators_) {
+    if (slot.last_trajectory_utime == INT64_MIN) slot.last_trajectory_utime = data_utime_;
+    if (static_cast<double>(data_utime_ - slot.last_trajectory_utime) * 1e-6 >=
+        config_.trajectory_interval_s) {
+      publishTrajectory(slot, true);
+      slot.last_trajectory_utime = data_utime_;
+    }
+  }
+}
+
+void Host::finish() {
+  for (auto& slot : estimators_) {
+    if (!slot.instance->failed()) slot.instance->finish();
+    publishOutputs(slot, false);
+    publishTrajectory(slot, true);
+    publishStatus(slot);
+  }
+}
+
+bool Host::anyFailed() const {
+  for (const auto& slot : estimators_) {
+    if (slot.instance->failed()) return true;
+  }
+  return false;
+}
+
+std::vector<std::string> Host::summary() const {
+  std::vector<std::string> lines;
+  char line[512];
+  for (const auto& slot : estimators_) {
+    const PluginInstance::Status status = slot.instance->status();
+    const char* state = slot.instance->failed() ? "FAILED" : "ok";
+    std::snprintf(line, sizeof(line),
+                  "%-22s %-15s %-6s poses %7lld  odometry %lld/%lld rejected  ranges %lld/%lld rejected  cpu %.3f s",
+                  slot.section.name.c_str(), slot.instance->pluginName().c_str(), state,
+                  static_cast<long long>(slot.poses_published),
+                  static_cast<long long>(status.odometry_rejected),
+                  static_cast<long long>(status.odometry_accepted + status.odometry_rejected),
+                  static_cast<long long>(status.ranges_rejected),
+                  static_cast<long long>(status.ranges_accepted + status.ranges_rejected),
+                  slot.instance->cpuTotalSeconds());
+    std::string text = line;
+    if (!status.last_rejection.empty()) text += "  (last rejection: " + status.last_rejection + ")";
+    if (slot.instance->failed()) text += "  error: " + slot.instance->error();
+    lines.push_back(text);
+  }
+  std::ostringstream input;
+  input << "input: " << counters_.events << " events, " << counters_.odometry << " odometry, "
+        << counters_.ranges << " ranges";
+  if (counters_.undecodable) {
+    input << ", " << counters_.undecodable << " undecodable (skipped:";
+    for (const auto& [channel, count] : counters_.undecodable_by_channel) {
+      input << " " << channel << "=" << count;
+    }
+    input << ")";
+  }
+  if (counters_.out_of_order) input << ", " << counters_.out_of_order << " out of order (skipped)";
+  if (counters_.duplicates) input << ", " << counters_.duplicates << " duplicates (skipped)";
+  if (counters_.odometry_gaps) input << ", " << counters_.odometry_gaps << " gaps in the odometry clock";
+  lines.push_back(input.str());
+  return lines;
+}
+
+}  // namespace runtime
+}  // namespace roam

@@ -1,0 +1,111 @@
+// The host: feeds input events to every estimator instance in event order and turns their
+// outputs into LCM messages for a sink (an output log, the bus, or both).
+//
+// Inputs are decoded once and checked here, the same for every estimator: an event that does
+// not decode, a message whose utime goes backwards on its channel, or an exact duplicate is
+// skipped and counted. Estimators see message utimes only (never the receive time).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "config.hpp"
+#include "plugin_library.hpp"
+
+namespace roam {
+namespace runtime {
+
+// Where encoded messages go.
+class Sink {
+ public:
+  virtual ~Sink() = default;
+  virtual void write(const std::string& channel, int64_t utime, const void* data, int size) = 0;
+};
+
+struct EstimatorSlot {
+  EstimatorSection section;
+  std::unique_ptr<PluginInstance> instance;
+  int64_t poses_published = 0;
+  int64_t last_status_utime = INT64_MIN;
+  int64_t last_trajectory_utime = INT64_MIN;
+  bool failure_reported = false;
+};
+
+struct InputCounters {
+  int64_t events = 0;
+  int64_t odometry = 0;
+  int64_t ranges = 0;
+  int64_t undecodable = 0;
+  int64_t out_of_order = 0;
+  int64_t duplicates = 0;
+  int64_t odometry_gaps = 0;  // gaps in the odometry clock beyond max_odometry_gap_s
+  std::map<std::string, int64_t> undecodable_by_channel;
+};
+
+class Host {
+ public:
+  // Outputs go to `output_sink`; each input event is first copied to `input_sink` if not null
+  // (replay copies the input events into the result log; live mode leaves them on the bus).
+  Host(const RunConfig& config, std::vector<EstimatorSlot> estimators, Sink* output_sink,
+       Sink* input_sink);
+
+  // One input event, as read from a log or received from the bus.
+  void onEvent(const std::string& channel, int64_t event_utime, const void* data, int size);
+  // Live mode: ask smoothers for their path if trajectory_interval_s has passed.
+  void maybeRequestTrajectories();
+  // End of input: finish every estimator, publish final poses, maps, paths and statuses.
+  void finish();
+
+  const InputCounters& counters() const { return counters_; }
+  const std::vector<EstimatorSlot>& estimators() const { return estimators_; }
+  int64_t dataUtime() const { return data_utime_; }
+  // A summary line per estimator, and the input counters.
+  std::vector<std::string> summary() const;
+  bool anyFailed() const;
+
+ private:
+  void feedOdometry(const void* data, int size);
+  void feedRange(const void* data, int size);
+  void feedInitialPose(const void* data, int size);
+  void feedBeacons(const void* data, int size);
+  // Checks time order and duplicates on a channel; false if the message must be skipped.
+  bool acceptInOrder(const std::string& channel, int64_t utime, const void* data, int size);
+  void publishOutputs(EstimatorSlot& slot, bool force_status);
+  void publishTrajectory(EstimatorSlot& slot, bool force);
+  void publishStatus(EstimatorSlot& slot);
+  void reportFailure(EstimatorSlot& slot);
+  template <typename Message>
+  void publish(const std::string& channel, const Message& message);
+
+  RunConfig config_;
+  std::vector<EstimatorSlot> estimators_;
+  Sink* sink_;
+  Sink* input_sink_;
+  InputCounters counters_;
+  int64_t data_utime_ = 0;
+  bool have_data_utime_ = false;
+  int64_t last_odometry_utime_ = INT64_MIN;
+  struct ChannelHistory {
+    int64_t last_utime = INT64_MIN;
+    std::vector<uint8_t> last_payload;
+    bool warned = false;
+  };
+  std::map<std::string, ChannelHistory> history_;
+  std::vector<uint8_t> buffer_;
+};
+
+}  // namespace runtime
+}  // namespace roam
+
+namespace roam {
+namespace runtime {
+// Discards everything (a replay with no output log).
+class NullSink : public Sink {
+ public:
+  void write(const std::string&, int64_t, const void*, int) override {}
+};
+}  // namespace runtime
+}  // namespace roam

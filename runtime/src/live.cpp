@@ -1,0 +1,102 @@
+#include "live.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <lcm/lcm-cpp.hpp>
+
+namespace roam {
+namespace runtime {
+namespace {
+
+int64_t wallUtime() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+// Publishes outputs on the bus.
+class BusSink : public Sink {
+ public:
+  explicit BusSink(lcm::LCM* bus) : bus_(bus) {}
+  void write(const std::string& channel, int64_t, const void* data, int size) override {
+    bus_->publish(channel, data, static_cast<unsigned int>(size));
+  }
+
+ private:
+  lcm::LCM* bus_;
+};
+
+// Writes to the log with the receive (wall-clock) time as event time, like lcm-logger; the
+// messages inside keep their data utimes.
+class WallClockLogSink : public Sink {
+ public:
+  explicit WallClockLogSink(LogSink* log) : log_(log) {}
+  void write(const std::string& channel, int64_t, const void* data, int size) override {
+    log_->write(channel, wallUtime(), data, size);
+  }
+
+ private:
+  LogSink* log_;
+};
+
+class Receiver {
+ public:
+  explicit Receiver(Host* host) : host_(host) {}
+  void onMessage(const lcm::ReceiveBuffer* buffer, const std::string& channel) {
+    host_->onEvent(channel, buffer->recv_utime, buffer->data, static_cast<int>(buffer->data_size));
+    host_->maybeRequestTrajectories();
+  }
+
+ private:
+  Host* host_;
+};
+
+}  // namespace
+
+int runLive(const RunConfig& config, std::vector<EstimatorSlot> slots, LogSink* log,
+            const LiveOptions& options, const std::atomic<bool>& stop, std::unique_ptr<Host>* host) {
+  lcm::LCM bus(config.input);
+  if (!bus.good()) {
+    std::fprintf(stderr, "roam-run: error: cannot open the LCM bus '%s'\n", config.input.c_str());
+    return 2;
+  }
+  BusSink bus_sink(&bus);
+  TeeSink outputs;
+  outputs.add(&bus_sink);
+  std::unique_ptr<WallClockLogSink> log_sink;
+  if (log != nullptr) {
+    log_sink = std::make_unique<WallClockLogSink>(log);
+    outputs.add(log_sink.get());
+  }
+  *host = std::make_unique<Host>(config, std::move(slots), &outputs, log_sink.get());
+  Receiver receiver(host->get());
+  for (const std::string& channel :
+       {config.odometry_channel, config.range_channel, config.initial_pose_channel,
+        config.beacons_channel, config.ground_truth_channel}) {
+    bus.subscribe(channel, &Receiver::onMessage, &receiver);
+  }
+  std::fprintf(stderr, "roam-run: live on %s (Ctrl-C to finish)\n", config.input.c_str());
+  const auto start = std::chrono::steady_clock::now();
+  auto last_flush = start;
+  while (!stop.load()) {
+    const int rc = bus.handleTimeout(100);
+    if (rc < 0) {
+      std::fprintf(stderr, "roam-run: error: the LCM bus failed\n");
+      break;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (log != nullptr && now - last_flush > std::chrono::milliseconds(500)) {
+      log->flush();
+      last_flush = now;
+    }
+    if (options.duration_s > 0.0 &&
+        std::chrono::duration<double>(now - start).count() >= options.duration_s) {
+      break;
+    }
+  }
+  (*host)->finish();
+  return 0;
+}
+
+}  // namespace runtime
+}  // namespace roam

@@ -1,0 +1,62 @@
+#include "log_sink.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+
+namespace roam {
+namespace runtime {
+namespace {
+
+constexpr uint32_t kLogSyncWord = 0xEDA1DA01u;
+
+void putBigEndian(std::vector<uint8_t>* out, uint64_t value, int bytes) {
+  for (int i = bytes - 1; i >= 0; --i) out->push_back(static_cast<uint8_t>(value >> (8 * i)));
+}
+
+}  // namespace
+
+LogSink::LogSink(const std::string& path) : path_(path) {
+  const auto parent = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0) {
+    throw std::runtime_error(path + ": cannot create the output log: " + std::strerror(errno));
+  }
+}
+
+LogSink::~LogSink() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void LogSink::write(const std::string& channel, int64_t utime, const void* data, int size) {
+  buffer_.clear();
+  putBigEndian(&buffer_, kLogSyncWord, 4);
+  putBigEndian(&buffer_, static_cast<uint64_t>(events_), 8);
+  putBigEndian(&buffer_, static_cast<uint64_t>(utime), 8);
+  putBigEndian(&buffer_, static_cast<uint32_t>(channel.size()), 4);
+  putBigEndian(&buffer_, static_cast<uint32_t>(size), 4);
+  buffer_.insert(buffer_.end(), channel.begin(), channel.end());
+  const auto* bytes = static_cast<const uint8_t*>(data);
+  buffer_.insert(buffer_.end(), bytes, bytes + size);
+  size_t written = 0;
+  while (written < buffer_.size()) {
+    const ssize_t n = ::write(fd_, buffer_.data() + written, buffer_.size() - written);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw std::runtime_error(path_ + ": write failed: " + std::strerror(errno));
+    }
+    written += static_cast<size_t>(n);
+  }
+  ++events_;
+}
+
+void LogSink::flush() { ::fsync(fd_); }
+
+}  // namespace runtime
+}  // namespace roam

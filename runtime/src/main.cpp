@@ -1,0 +1,176 @@
+// roam-run: loads the estimator plugins named in an INI config and runs them over a log
+// (deterministic replay, as fast as the CPU allows) or a live LCM bus.
+//
+//   roam-run CONFIG [--set section.key=value]... [--input LOG|URL] [--output LOG]
+//                   [--print-config] [--duration S] [--no-progress] [--verbose]
+//
+// Exit status: 0 all estimators finished; 1 an estimator failed (named on stderr);
+// 2 bad config, missing plugin, unreadable input (before any data is read).
+#include <unistd.h>
+
+#include <atomic>
+#include <boost/program_options.hpp>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "config.hpp"
+#include "host.hpp"
+#include "live.hpp"
+#include "log_sink.hpp"
+#include "plugin_library.hpp"
+#include "replay.hpp"
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+using namespace roam::runtime;
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+std::atomic<int> g_signals{0};
+
+void onSignal(int) {
+  g_stop.store(true);
+  if (g_signals.fetch_add(1) >= 1) {
+    // Second signal: leave at once. Every event already written is complete on disk
+    // (the output log is flushed after each batch), so the log stays readable.
+    _exit(130);
+  }
+}
+
+std::string defaultPluginPath() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return "lib/roam/plugins";
+  return (exe.parent_path().parent_path() / "lib" / "roam" / "plugins").lexically_normal().string();
+}
+
+int startupError(const std::string& message) {
+  std::fprintf(stderr, "roam-run: error: %s\n", message.c_str());
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  po::options_description options("roam-run CONFIG [options]");
+  std::vector<std::string> overrides;
+  std::string config_path, input_override, output_override;
+  double duration_s = 0.0;
+  options.add_options()
+      ("help,h", "show this help")
+      ("config", po::value(&config_path), "the INI config file")
+      ("set", po::value(&overrides)->composing(), "override a config value: section.key=value (repeatable)")
+      ("input", po::value(&input_override), "override [runtime] input: a log file or an LCM URL")
+      ("output", po::value(&output_override), "override [runtime] output (\"\" for none)")
+      ("print-config", "print the effective config (defaults included) and exit")
+      ("duration", po::value(&duration_s), "live mode: stop after this many seconds")
+      ("no-progress", "no progress bar")
+      ("verbose,v", "more detail on stderr");
+  po::positional_options_description positional;
+  positional.add("config", 1);
+  po::variables_map args;
+  try {
+    po::store(po::command_line_parser(argc, argv).options(options).positional(positional).run(), args);
+    po::notify(args);
+  } catch (const po::error& error) {
+    return startupError(std::string(error.what()) + " (see roam-run --help)");
+  }
+  if (args.count("help") || config_path.empty()) {
+    std::cout << options << "\n";
+    return args.count("help") ? 0 : 2;
+  }
+
+  RunConfig config;
+  try {
+    if (args.count("input")) overrides.push_back("runtime.input=" + fs::absolute(input_override).string());
+    config = loadConfig(config_path, overrides, defaultPluginPath());
+    if (args.count("input") && input_override.find("://") != std::string::npos) config.input = input_override;
+    if (args.count("output")) config.output = output_override.empty() ? "" : fs::absolute(output_override).string();
+  } catch (const ConfigError& error) {
+    return startupError(error.what());
+  }
+
+  // Load every plugin and create every instance before reading any data.
+  std::vector<EstimatorSlot> slots;
+  std::vector<roam::KeyValues> effective;
+  for (const auto& section : config.estimators) {
+    try {
+      auto library = PluginLibrary::open(config.plugin_path, section.plugin);
+      roam::KeyValues values;
+      for (const auto& setting : section.plugin_settings) values.emplace_back(setting.key, setting.value);
+      EstimatorSlot slot;
+      slot.section = section;
+      slot.instance = std::make_unique<PluginInstance>(library, section.name, values);
+      effective.push_back(slot.instance->effectiveConfig());
+      slots.push_back(std::move(slot));
+    } catch (const PluginConfigError& error) {
+      const Origin origin = error.key().empty() ? section.section_origin : section.originOf(error.key());
+      std::string where = origin.describe() + " [estimator." + section.name + "]";
+      if (!error.key().empty()) where += " " + error.key();
+      return startupError(where + ": " + error.what());
+    } catch (const PluginError& error) {
+      return startupError(section.plugin_origin.describe() + " [estimator." + section.name +
+                          "] plugin: " + error.what());
+    }
+  }
+  if (args.count("print-config")) {
+    std::cout << formatConfig(config, effective);
+    return 0;
+  }
+
+  std::unique_ptr<LogSink> log_sink;
+  try {
+    if (!config.output.empty()) log_sink = std::make_unique<LogSink>(config.output);
+  } catch (const std::exception& error) {
+    return startupError(error.what());
+  }
+
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  const bool progress = !args.count("no-progress") && isatty(STDERR_FILENO);
+
+  int status = 0;
+  std::unique_ptr<Host> host;
+  if (config.isLive()) {
+    LiveOptions live;
+    live.duration_s = duration_s;
+    live.verbose = args.count("verbose") > 0;
+    try {
+      status = runLive(config, std::move(slots), log_sink.get(), live, g_stop, &host);
+    } catch (const std::exception& error) {
+      return startupError(error.what());
+    }
+    if (status != 0) return status;
+  } else {
+    NullSink null_sink;
+    Sink* sink = log_sink ? static_cast<Sink*>(log_sink.get()) : &null_sink;
+    host = std::make_unique<Host>(config, std::move(slots), sink, log_sink.get());
+    ReplayReport report;
+    try {
+      report = replayLog(config.input, *host, g_stop, progress);
+    } catch (const std::exception& error) {
+      return startupError(error.what());
+    }
+    host->finish();
+    if (!report.damage().empty()) {
+      std::fprintf(stderr, "roam-run: warning: %s: %s\n", config.input.c_str(), report.damage().c_str());
+    }
+    if (report.interrupted) std::fprintf(stderr, "roam-run: interrupted: finished with the data so far\n");
+  }
+  if (log_sink) log_sink->flush();
+  for (const auto& line : host->summary()) std::fprintf(stderr, "%s\n", line.c_str());
+  if (!config.output.empty()) std::fprintf(stderr, "output: %s\n", config.output.c_str());
+  if (host->anyFailed()) {
+    for (const auto& slot : host->estimators()) {
+      if (slot.instance->failed()) {
+        std::fprintf(stderr, "roam-run: estimator '%s' failed: %s\n", slot.section.name.c_str(),
+                     slot.instance->error().c_str());
+      }
+    }
+    status = 1;
+  }
+  return status;
+}

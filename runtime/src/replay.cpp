@@ -1,0 +1,88 @@
+#include "replay.hpp"
+
+#include <sys/stat.h>
+
+#include <chrono>
+#include <cstdio>
+#include <lcm/lcm-cpp.hpp>
+#include <stdexcept>
+
+namespace roam {
+namespace runtime {
+namespace {
+
+// The on-disk size of an event: sync word, event number, timestamp, two lengths, payload.
+int64_t eventBytes(const lcm::LogEvent& event) {
+  return 4 + 8 + 8 + 4 + 4 + static_cast<int64_t>(event.channel.size()) + event.datalen;
+}
+
+class ProgressBar {
+ public:
+  ProgressBar(bool enabled, int64_t total_bytes)
+      : enabled_(enabled), total_(total_bytes), start_(Clock::now()), last_(start_) {}
+  void update(int64_t done_bytes) {
+    if (!enabled_ || total_ <= 0) return;
+    const auto now = Clock::now();
+    if (now - start_ < std::chrono::seconds(1) || now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    const double fraction = static_cast<double>(done_bytes) / static_cast<double>(total_);
+    const int width = 40;
+    const int filled = static_cast<int>(fraction * width);
+    std::fprintf(stderr, "\r[%-*s] %5.1f%%", width, std::string(static_cast<size_t>(filled), '#').c_str(),
+                 100.0 * fraction);
+    drawn_ = true;
+  }
+  ~ProgressBar() {
+    if (drawn_) std::fprintf(stderr, "\r%*s\r", 50, "");
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  bool enabled_;
+  int64_t total_;
+  Clock::time_point start_, last_;
+  bool drawn_ = false;
+};
+
+}  // namespace
+
+std::string ReplayReport::damage() const {
+  std::string text;
+  if (bytes_skipped > 0) {
+    text += std::to_string(bytes_skipped) + " corrupt bytes skipped";
+  }
+  if (damaged_tail) {
+    if (!text.empty()) text += "; ";
+    text += "the log ends inside an event (cut or corrupt): replayed up to there";
+  }
+  return text;
+}
+
+ReplayReport replayLog(const std::string& path, Host& host, const std::atomic<bool>& stop,
+                       bool progress) {
+  struct stat info {};
+  if (stat(path.c_str(), &info) != 0) throw std::runtime_error(path + ": cannot open the input log");
+  lcm::LogFile log(path, "r");
+  if (!log.good()) throw std::runtime_error(path + ": cannot open the input log");
+  const int64_t size = static_cast<int64_t>(info.st_size);
+  ReplayReport report;
+  ProgressBar bar(progress, size);
+  int64_t expected_start = 0;
+  while (!stop.load()) {
+    const lcm::LogEvent* event = log.readNextEvent();
+    if (event == nullptr) break;
+    const int64_t end = static_cast<int64_t>(std::ftell(log.getFilePtr()));
+    const int64_t start = end - eventBytes(*event);
+    if (start > expected_start) report.bytes_skipped += start - expected_start;
+    expected_start = end;
+    ++report.events;
+    host.onEvent(event->channel, event->timestamp, event->data, event->datalen);
+    bar.update(end);
+  }
+  report.interrupted = stop.load();
+  if (!report.interrupted && expected_start < size) report.damaged_tail = true;
+  return report;
+}
+
+}  // namespace runtime
+}  // namespace roam
