@@ -67,6 +67,36 @@ Beacon fromC(const roam_beacon& beacon) {
   return out;
 }
 
+roam_odometry toC(const Odometry& odometry) {
+  return roam_odometry{odometry.utime, odometry.delta_distance_m, odometry.delta_heading_rad};
+}
+
+Odometry fromC(const roam_odometry& odometry) {
+  return Odometry{odometry.utime, odometry.delta_distance_m, odometry.delta_heading_rad};
+}
+
+roam_range toC(const Range& range) {
+  roam_range out{};
+  out.utime = range.utime;
+  out.beacon_id = range.beacon_id;
+  out.has_bearing = range.has_bearing ? 1 : 0;
+  out.range_m = range.range_m;
+  out.sigma_m = range.sigma_m;
+  out.bearing_rad = range.bearing_rad;
+  return out;
+}
+
+Range fromC(const roam_range& range) {
+  Range out;
+  out.utime = range.utime;
+  out.beacon_id = range.beacon_id;
+  out.range_m = range.range_m;
+  out.sigma_m = range.sigma_m;
+  out.has_bearing = range.has_bearing != 0;
+  out.bearing_rad = range.bearing_rad;
+  return out;
+}
+
 std::string checkOdometry(const roam_odometry& odometry) {
   if (!std::isfinite(odometry.delta_distance_m) || !std::isfinite(odometry.delta_heading_rad))
     return "not finite";
@@ -144,8 +174,7 @@ int addOdometry(roam_handle h, const roam_odometry* odometry) {
       self.estimator->rejectOdometry(problem);
       return;
     }
-    self.estimator->addOdometry(
-        Odometry{odometry->utime, odometry->delta_distance_m, odometry->delta_heading_rad});
+    self.estimator->addOdometry(fromC(*odometry));
   });
 }
 
@@ -156,14 +185,7 @@ int addRange(roam_handle h, const roam_range* range) {
       self.estimator->rejectRange(problem);
       return;
     }
-    Range in;
-    in.utime = range->utime;
-    in.beacon_id = range->beacon_id;
-    in.range_m = range->range_m;
-    in.sigma_m = range->sigma_m;
-    in.has_bearing = range->has_bearing != 0;
-    in.bearing_rad = range->bearing_rad;
-    self.estimator->addRange(in);
+    self.estimator->addRange(fromC(*range));
   });
 }
 

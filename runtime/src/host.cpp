@@ -4,8 +4,9 @@
 #include <cstring>
 #include <sstream>
 
-#include "abi_messages.hpp"
 #include "roam/estimator_status_t.hpp"
+#include "roam/messages.hpp"
+#include "roam/plugin_shim.hpp"
 
 namespace roam {
 namespace runtime {
@@ -86,7 +87,7 @@ void Host::feedOdometry(const void* data, int size) {
     ++counters_.odometry_gaps;
   }
   last_odometry_utime_ = message.utime;
-  const roam_odometry odometry = abiFromMessage(message);
+  const roam_odometry odometry = shim::toC(fromMessage(message));
   for (auto& slot : estimators_) slot.instance->addOdometry(odometry);
 }
 
@@ -99,7 +100,7 @@ void Host::feedRange(const void* data, int size) {
   }
   if (!acceptInOrder(config_.range_channel, message.utime, data, size)) return;
   ++counters_.ranges;
-  const roam_range range = abiFromMessage(message);
+  const roam_range range = shim::toC(fromMessage(message));
   for (auto& slot : estimators_) slot.instance->addRange(range);
 }
 
@@ -111,7 +112,7 @@ void Host::feedInitialPose(const void* data, int size) {
     return;
   }
   if (!acceptInOrder(config_.initial_pose_channel, message.utime, data, size)) return;
-  const roam_pose pose = abiFromMessage(message);
+  const roam_pose pose = shim::toC(fromMessage(message));
   for (auto& slot : estimators_) slot.instance->setInitialPose(pose);
 }
 
@@ -123,7 +124,8 @@ void Host::feedBeacons(const void* data, int size) {
     return;
   }
   if (!acceptInOrder(config_.beacons_channel, message.utime, data, size)) return;
-  const std::vector<roam_beacon> beacons = abiFromMessage(message);
+  std::vector<roam_beacon> beacons;
+  for (const Beacon& beacon : fromMessage(message)) beacons.push_back(shim::toC(beacon));
   for (auto& slot : estimators_) slot.instance->setBeacons(beacons);
 }
 
@@ -133,14 +135,16 @@ void Host::publishOutputs(EstimatorSlot& slot, bool force_status) {
     std::vector<roam_pose> poses;
     if (instance.pollPoses(&poses)) {
       for (const auto& pose : poses) {
-        publish(slot.section.pose_channel, poseMessage(pose, slot.section.name));
+        publish(slot.section.pose_channel, toMessage(shim::fromC(pose), slot.section.name));
         ++slot.poses_published;
       }
     }
     bool changed = false;
     std::vector<roam_beacon> beacons;
     if (instance.pollMap(&changed, &beacons) && changed) {
-      publish(slot.section.map_channel, mapMessage(data_utime_, beacons, slot.section.name));
+      Map map;
+      for (const auto& beacon : beacons) map.push_back(shim::fromC(beacon));
+      publish(slot.section.map_channel, toMessage(map, data_utime_, slot.section.name));
     }
   }
   if (instance.failed() && !slot.failure_reported) {
@@ -166,7 +170,9 @@ void Host::publishTrajectory(EstimatorSlot& slot, bool force) {
   bool available = false;
   std::vector<roam_pose> poses;
   if (slot.instance->pollTrajectory(force, &available, &poses) && available) {
-    publish(slot.section.trajectory_channel, trajectoryMessage(data_utime_, poses, slot.section.name));
+    Path path;
+    for (const auto& pose : poses) path.push_back(shim::fromC(pose));
+    publish(slot.section.trajectory_channel, toMessage(path, data_utime_, slot.section.name));
     slot.last_trajectory_utime = data_utime_;
   }
   if (slot.instance->failed() && !slot.failure_reported) reportFailure(slot);

@@ -50,6 +50,10 @@ roam_pose toC(const Pose& pose);
 Pose fromC(const roam_pose& pose);
 roam_beacon toC(const Beacon& beacon);
 Beacon fromC(const roam_beacon& beacon);
+roam_odometry toC(const Odometry& odometry);
+Odometry fromC(const roam_odometry& odometry);
+roam_range toC(const Range& range);
+Range fromC(const roam_range& range);
 // "" if usable, else the reason (non-finite value, negative range, ...).
 std::string checkOdometry(const roam_odometry& odometry);
 std::string checkRange(const roam_range& range);
