@@ -207,6 +207,9 @@ void Options::parse() {
       }
     }
   }
+  effective_.clear();
+  for (const auto& option : options_) effective_.emplace_back(option->key_, option->print_());
+  parsed_ = true;
 }
 
 bool Options::given(const std::string& key) const {
@@ -214,6 +217,7 @@ bool Options::given(const std::string& key) const {
 }
 
 KeyValues Options::effective() const {
+  if (parsed_) return effective_;
   KeyValues out;
   for (const auto& option : options_) out.emplace_back(option->key_, option->print_());
   return out;

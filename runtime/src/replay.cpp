@@ -11,6 +11,8 @@ namespace roam {
 namespace runtime {
 namespace {
 
+constexpr uint32_t kLogSyncWord = 0xEDA1DA01u;
+
 // The on-disk size of an event: sync word, event number, timestamp, two lengths, payload.
 int64_t eventBytes(const lcm::LogEvent& event) {
   return 4 + 8 + 8 + 4 + 4 + static_cast<int64_t>(event.channel.size()) + event.datalen;
@@ -44,6 +46,20 @@ class ProgressBar {
   bool drawn_ = false;
 };
 
+// Moves the reader to the next sync word at or after `from`; false if there is none.
+bool resynchronise(FILE* file, int64_t from) {
+  if (std::fseek(file, static_cast<long>(from), SEEK_SET) != 0) return false;
+  uint32_t window = 0;
+  int64_t position = from;
+  for (int c = std::fgetc(file); c != EOF; c = std::fgetc(file), ++position) {
+    window = (window << 8) | static_cast<uint32_t>(c);
+    if (position - from >= 3 && window == kLogSyncWord) {
+      return std::fseek(file, static_cast<long>(position - 3), SEEK_SET) == 0;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 std::string ReplayReport::damage() const {
@@ -70,7 +86,14 @@ ReplayReport replayLog(const std::string& path, Host& host, const std::atomic<bo
   int64_t expected_start = 0;
   while (!stop.load()) {
     const lcm::LogEvent* event = log.readNextEvent();
-    if (event == nullptr) break;
+    if (event == nullptr) {
+      // LCM's reader stops at a bad header; look for the next event after the last good one.
+      if (expected_start >= size || !resynchronise(log.getFilePtr(), expected_start + 1)) break;
+      const int64_t resumed = static_cast<int64_t>(std::ftell(log.getFilePtr()));
+      report.bytes_skipped += resumed - expected_start;
+      expected_start = resumed;
+      continue;
+    }
     const int64_t end = static_cast<int64_t>(std::ftell(log.getFilePtr()));
     const int64_t start = end - eventBytes(*event);
     if (start > expected_start) report.bytes_skipped += start - expected_start;

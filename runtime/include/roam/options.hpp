@@ -66,7 +66,8 @@ class Options {
   void parse();
   // True if the key was given in the config (after parse()).
   bool given(const std::string& key) const;
-  // Every option as key = value (defaults included), in the order added.
+  // Every option as key = value (defaults included), in the order added, as they were at the
+  // end of parse() (the targets may be gone by the time this is asked).
   KeyValues effective() const;
 
  private:
@@ -74,6 +75,8 @@ class Options {
   KeyValues values_;
   std::vector<std::unique_ptr<Option>> options_;
   std::vector<std::string> given_;
+  KeyValues effective_;
+  bool parsed_ = false;
 };
 
 }  // namespace roam

@@ -1,0 +1,138 @@
+// Every message type survives struct -> LCM message -> memq:// -> LCM message -> struct, and the
+// channel-name helpers give the names of DESIGN.md.
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
+
+#include "roam/messages.hpp"
+
+namespace {
+
+// Publishes `message` on a fresh memq:// bus and returns what a subscriber decodes.
+template <typename Message>
+Message roundTrip(const Message& message, const std::string& channel = "TEST") {
+  lcm::LCM bus("memq://");
+  EXPECT_TRUE(bus.good());
+  Message received;
+  bool got = false;
+  struct Handler {
+    Message* out;
+    bool* got;
+    void handle(const lcm::ReceiveBuffer*, const std::string&, const Message* decoded) {
+      *out = *decoded;
+      *got = true;
+    }
+  } handler{&received, &got};
+  bus.subscribe(channel, &Handler::handle, &handler);
+  EXPECT_EQ(bus.publish(channel, &message), 0);
+  EXPECT_GT(bus.handleTimeout(1000), 0);
+  EXPECT_TRUE(got);
+  return received;
+}
+
+TEST(Messages, ChannelNames) {
+  EXPECT_STREQ(roam::channels::ODOMETRY, "ODOMETRY");
+  EXPECT_STREQ(roam::channels::RANGE, "RANGE");
+  EXPECT_STREQ(roam::channels::INITIAL_POSE, "INITIAL_POSE");
+  EXPECT_STREQ(roam::channels::BEACONS, "BEACONS");
+  EXPECT_STREQ(roam::channels::GROUND_TRUTH, "GROUND_TRUTH");
+  EXPECT_EQ(roam::outputChannel("POSE_", "spectral"), "POSE_SPECTRAL");
+  EXPECT_EQ(roam::outputChannel(roam::channels::TRAJECTORY_PREFIX, "ekf-2"), "TRAJECTORY_EKF-2");
+  EXPECT_EQ(roam::outputChannel("MAP", "dr"), "MAP_DR");
+}
+
+TEST(Messages, OdometryRoundTrip) {
+  roam::Odometry in;
+  in.utime = 3856880000;
+  in.delta_distance_m = 0.1875;
+  in.delta_heading_rad = -0.015625;
+  const roam::Odometry out = roam::fromMessage(roundTrip(roam::toMessage(in)));
+  EXPECT_EQ(out.utime, in.utime);
+  EXPECT_EQ(out.delta_distance_m, in.delta_distance_m);
+  EXPECT_EQ(out.delta_heading_rad, in.delta_heading_rad);
+}
+
+TEST(Messages, RangeRoundTrip) {
+  roam::Range in;
+  in.utime = 3858062000;
+  in.beacon_id = 6;
+  in.range_m = 41.658;
+  in.sigma_m = 0.5;
+  in.has_bearing = true;
+  in.bearing_rad = 1.25;
+  const roam::Range out = roam::fromMessage(roundTrip(roam::toMessage(in)));
+  EXPECT_EQ(out.utime, in.utime);
+  EXPECT_EQ(out.beacon_id, 6);
+  EXPECT_EQ(out.range_m, 41.658);
+  EXPECT_EQ(out.sigma_m, 0.5);
+  EXPECT_TRUE(out.has_bearing);
+  EXPECT_EQ(out.bearing_rad, 1.25);
+}
+
+TEST(Messages, PoseRoundTrip) {
+  roam::Pose in;
+  in.utime = 42;
+  in.x_m = 1.5;
+  in.y_m = -2.25;
+  in.heading_rad = 3.0;
+  in.covariance[0] = 0.01;  // the rest stays NaN
+  const roam::pose_t message = roundTrip(roam::toMessage(in, "spectral"));
+  EXPECT_EQ(message.estimator, "spectral");
+  const roam::Pose out = roam::fromMessage(message);
+  EXPECT_EQ(out.utime, 42);
+  EXPECT_EQ(out.x_m, 1.5);
+  EXPECT_EQ(out.y_m, -2.25);
+  EXPECT_EQ(out.heading_rad, 3.0);
+  EXPECT_EQ(out.covariance[0], 0.01);
+  for (int i = 1; i < 9; ++i) EXPECT_TRUE(std::isnan(out.covariance[i])) << i;
+}
+
+TEST(Messages, MapRoundTrip) {
+  roam::Map in(2);
+  in[0].id = 0;
+  in[0].x_m = -68.9265;
+  in[0].y_m = 18.3778;
+  in[1].id = 5;
+  in[1].x_m = 1.0;
+  in[1].y_m = 2.0;
+  in[1].covariance = {0.1, 0.0, 0.0, 0.2};
+  const roam::map_t message = roundTrip(roam::toMessage(in, 77, "ekf"));
+  EXPECT_EQ(message.utime, 77);
+  EXPECT_EQ(message.estimator, "ekf");
+  EXPECT_EQ(message.num_beacons, 2);
+  const roam::Map out = roam::fromMessage(message);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0].id, 0);
+  EXPECT_EQ(out[0].x_m, -68.9265);
+  EXPECT_EQ(out[0].y_m, 18.3778);
+  EXPECT_TRUE(std::isnan(out[0].covariance[3]));
+  EXPECT_EQ(out[1].id, 5);
+  EXPECT_EQ(out[1].covariance[3], 0.2);
+}
+
+TEST(Messages, TrajectoryRoundTrip) {
+  roam::Path in(3);
+  for (int i = 0; i < 3; ++i) {
+    in[i].utime = 1000000 + 200000 * i;
+    in[i].x_m = 0.5 * i;
+    in[i].y_m = -0.25 * i;
+    in[i].heading_rad = 0.125 * i;
+  }
+  const roam::trajectory_t message = roundTrip(roam::toMessage(in, 1400000, "dr"));
+  EXPECT_EQ(message.utime, 1400000);
+  EXPECT_EQ(message.estimator, "dr");
+  EXPECT_EQ(message.num_poses, 3);
+  const roam::Path out = roam::fromMessage(message);
+  ASSERT_EQ(out.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(out[i].utime, in[i].utime);
+    EXPECT_EQ(out[i].x_m, in[i].x_m);
+    EXPECT_EQ(out[i].y_m, in[i].y_m);
+    EXPECT_EQ(out[i].heading_rad, in[i].heading_rad);
+  }
+}
+
+}  // namespace

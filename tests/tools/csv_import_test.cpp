@@ -1,0 +1,175 @@
+// roam::loadCsvDataset: the CSV layout of ../shared/data/plaza1, its errors, and the real data.
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "csv_dataset.hpp"
+#include "tool_test_util.hpp"
+
+namespace {
+
+constexpr double kTolerance = 1e-12;
+const std::string kPlaza1 = std::string(ROAM_SOURCE_DIR) + "/../shared/data/plaza1";
+
+// A small, valid run: columns in unusual orders, an extra column, CRLF line endings in one file.
+void writeValidRun(const roam_test::ScratchDir& dir) {
+  dir.write("groundtruth.csv", "heading_rad,time_s,y_m,x_m\n0.5,10.0,2.0,1.0\n0.6,10.2,2.1,1.1\n0.7,10.4,2.2,1.2\n");
+  dir.write("odometry.csv", "time_s,delta_heading_rad,delta_distance_m,note\r\n10.2,0.1,0.15,a\r\n10.4,0.1,0.14,b\r\n");
+  dir.write("landmarks.csv", "beacon_id,x_m,y_m\n0,5.0,6.0\n1,-5.0,7.5\n");
+  // Out of time order; two rows at 10.3 s keep their file order (beacon 1 before beacon 0).
+  dir.write("ranges.csv", "time_s,beacon_id,range_m\n10.3,1,8.5\n10.1,0,4.25\n10.3,0,4.5\n");
+}
+
+std::string loadError(const std::string& dir, const roam::CsvImportOptions& options = {}) {
+  try {
+    roam::loadCsvDataset(dir, options);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(CsvImport, ReadsColumnsByNameSortsRangesStably) {
+  roam_test::ScratchDir dir;
+  writeValidRun(dir);
+  const roam::Dataset d = roam::loadCsvDataset(dir.path());
+  ASSERT_EQ(d.ground_truth.size(), 3u);
+  EXPECT_EQ(d.start.utime, 10000000);
+  EXPECT_EQ(d.start.x_m, 1.0);
+  EXPECT_EQ(d.start.y_m, 2.0);
+  EXPECT_EQ(d.start.heading_rad, 0.5);
+  ASSERT_EQ(d.odometry.size(), 2u);
+  EXPECT_EQ(d.odometry[0].utime, 10200000);
+  EXPECT_EQ(d.odometry[0].delta_distance_m, 0.15);
+  EXPECT_EQ(d.odometry[0].delta_heading_rad, 0.1);
+  ASSERT_EQ(d.beacons.size(), 2u);
+  EXPECT_EQ(d.beacons[1].id, 1);
+  EXPECT_EQ(d.beacons[1].y_m, 7.5);
+  ASSERT_EQ(d.ranges.size(), 3u);
+  EXPECT_EQ(d.ranges[0].utime, 10100000);
+  EXPECT_EQ(d.ranges[0].range_m, 4.25);
+  EXPECT_EQ(d.ranges[1].beacon_id, 1);  // stable: file order at equal times
+  EXPECT_EQ(d.ranges[2].beacon_id, 0);
+  EXPECT_EQ(d.ranges[2].range_m, 4.5);
+  EXPECT_FALSE(d.ranges[0].has_bearing);
+}
+
+TEST(CsvImport, HeadingOffsetIsAddedToGroundTruth) {
+  roam_test::ScratchDir dir;
+  writeValidRun(dir);
+  roam::CsvImportOptions options;
+  options.heading_offset_rad = M_PI;
+  const roam::Dataset d = roam::loadCsvDataset(dir.path(), options);
+  EXPECT_NEAR(d.start.heading_rad, 0.5 + M_PI, kTolerance);
+  EXPECT_NEAR(d.ground_truth[2].heading_rad, 0.7 + M_PI, kTolerance);
+}
+
+TEST(CsvImport, MissingColumnNamesFileAndHeader) {
+  roam_test::ScratchDir dir;
+  writeValidRun(dir);
+  dir.write("ranges.csv", "time_s,beacon_id,distance\n10.1,0,4.25\n");
+  EXPECT_EQ(loadError(dir.path()),
+            dir.file("ranges.csv") + ":1: missing column 'range_m' (header: time_s, beacon_id, distance)");
+}
+
+TEST(CsvImport, BadNumberNamesFileLineAndColumn) {
+  roam_test::ScratchDir dir;
+  writeValidRun(dir);
+  dir.write("odometry.csv", "time_s,delta_distance_m,delta_heading_rad\n10.2,0.15,0.1\n10.4,0.1x4,0.1\n");
+  EXPECT_EQ(loadError(dir.path()),
+            dir.file("odometry.csv") + ":3: column 'delta_distance_m': expected a number, got '0.1x4'");
+  dir.write("odometry.csv", "time_s,delta_distance_m,delta_heading_rad\n10.2,0.15,0.1\n10.4,,0.1\n");
+  EXPECT_EQ(loadError(dir.path()),
+            dir.file("odometry.csv") + ":3: column 'delta_distance_m': expected a number, got ''");
+  writeValidRun(dir);
+  dir.write("ranges.csv", "time_s,beacon_id,range_m\n10.1,zero,4.25\n");
+  EXPECT_EQ(loadError(dir.path()),
+            dir.file("ranges.csv") + ":2: column 'beacon_id': expected an integer, got 'zero'");
+}
+
+TEST(CsvImport, ShortRowNamesLine) {
+  roam_test::ScratchDir dir;
+  writeValidRun(dir);
+  dir.write("landmarks.csv", "beacon_id,x_m,y_m\n0,5.0,6.0\n1,-5.0\n");
+  EXPECT_EQ(loadError(dir.path()), dir.file("landmarks.csv") + ":3: expected 3 fields as in the header, got 2");
+}
+
+TEST(CsvImport, UnknownBeaconNamesFileLineAndKnownIds) {
+  roam_test::ScratchDir dir;
+  writeValidRun(dir);
+  dir.write("ranges.csv", "time_s,beacon_id,range_m\n10.1,0,4.25\n10.3,9,8.5\n");
+  EXPECT_EQ(loadError(dir.path()),
+            dir.file("ranges.csv") + ":3: column 'beacon_id': beacon 9 is not in landmarks.csv (ids: 0, 1)");
+}
+
+TEST(CsvImport, MissingFileIsNamed) {
+  roam_test::ScratchDir dir;
+  writeValidRun(dir);
+  std::remove(dir.file("landmarks.csv").c_str());
+  EXPECT_EQ(loadError(dir.path()), dir.file("landmarks.csv") + ": cannot open (No such file or directory)");
+}
+
+TEST(CsvImport, OdometryFromPath) {
+  roam_test::ScratchDir dir;
+  writeValidRun(dir);
+  // Steps: (3,4) east-north-east, a zero step, then (0,2) north, then (-1,0) west.
+  dir.write("path.csv",
+            "time_s,x_m,y_m,heading_rad\n"
+            "9.9,0,0,0.25\n"
+            "10.2,3,4,9\n"
+            "10.4,3,4,9\n"
+            "10.6,3,6,9\n"
+            "10.8,2,6,9\n");
+  roam::CsvImportOptions options;
+  options.odometry_from_path = dir.file("path.csv");
+  const roam::Dataset d = roam::loadCsvDataset(dir.path(), options);
+  ASSERT_EQ(d.odometry.size(), 4u);
+  // Directions of travel: step 1 = heading column at row 0 = 0.25; step 2 has length 0 and
+  // keeps 0.25; step 3 = atan2(2, 0) = pi/2; step 4 = atan2(0, -1) = pi.
+  // delta_heading of step k = dir(k+1) - dir(k): 0, pi/2 - 0.25, pi/2, 0 (last step).
+  EXPECT_EQ(d.odometry[0].utime, 10200000);
+  EXPECT_NEAR(d.odometry[0].delta_distance_m, 5.0, kTolerance);
+  EXPECT_NEAR(d.odometry[0].delta_heading_rad, 0.0, kTolerance);
+  EXPECT_NEAR(d.odometry[1].delta_distance_m, 0.0, kTolerance);
+  EXPECT_NEAR(d.odometry[1].delta_heading_rad, M_PI / 2 - 0.25, kTolerance);
+  EXPECT_NEAR(d.odometry[2].delta_distance_m, 2.0, kTolerance);
+  EXPECT_NEAR(d.odometry[2].delta_heading_rad, M_PI / 2, kTolerance);
+  EXPECT_EQ(d.odometry[3].utime, 10800000);
+  EXPECT_NEAR(d.odometry[3].delta_distance_m, 1.0, kTolerance);
+  EXPECT_NEAR(d.odometry[3].delta_heading_rad, 0.0, kTolerance);
+}
+
+TEST(CsvImport, OdometryFromPathWithoutHeadingStartsAlongTheStartPose) {
+  roam_test::ScratchDir dir;
+  writeValidRun(dir);  // start heading 0.5
+  dir.write("path.csv", "time_s,x_m,y_m\n10.0,0,0\n10.2,1,0\n10.4,1,1\n");
+  roam::CsvImportOptions options;
+  options.odometry_from_path = dir.file("path.csv");
+  const roam::Dataset d = roam::loadCsvDataset(dir.path(), options);
+  ASSERT_EQ(d.odometry.size(), 2u);
+  // dir(1) = start heading 0.5, dir(2) = atan2(1, 0) = pi/2.
+  EXPECT_NEAR(d.odometry[0].delta_heading_rad, M_PI / 2 - 0.5, kTolerance);
+  EXPECT_NEAR(d.odometry[1].delta_heading_rad, 0.0, kTolerance);
+}
+
+TEST(CsvImport, RealPlaza1HasTheCountsOfTheReadme) {
+  const roam::Dataset d = roam::loadCsvDataset(kPlaza1);
+  EXPECT_EQ(d.odometry.size(), 9657u);
+  EXPECT_EQ(d.ranges.size(), 3529u);
+  EXPECT_EQ(d.ground_truth.size(), 9658u);
+  ASSERT_EQ(d.beacons.size(), 4u);
+  EXPECT_EQ(d.beacons[0].id, 0);
+  EXPECT_EQ(d.beacons[1].id, 1);
+  EXPECT_EQ(d.beacons[2].id, 5);
+  EXPECT_EQ(d.beacons[3].id, 6);
+  for (size_t i = 1; i < d.ranges.size(); ++i) ASSERT_LE(d.ranges[i - 1].utime, d.ranges[i].utime) << i;
+  EXPECT_EQ(d.ranges.front().utime, std::llround(3858.0620000362396 * 1e6));
+  EXPECT_EQ(d.start.utime, std::llround(3856.857346057892 * 1e6));
+  EXPECT_EQ(d.start.heading_rad, 4.222432);
+  // README: odometry.time_s[k] == groundtruth.time_s[k+1].
+  for (size_t k = 0; k < d.odometry.size(); ++k) ASSERT_EQ(d.odometry[k].utime, d.ground_truth[k + 1].utime);
+}
+
+}  // namespace

@@ -1,0 +1,166 @@
+#include "csv_dataset.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include "csv_table.hpp"
+
+namespace roam {
+namespace {
+
+int64_t utimeFromSeconds(double time_s) { return std::llround(time_s * 1e6); }
+
+std::string joinPath(const std::string& dir, const std::string& file) {
+  if (dir.empty()) return file;
+  return dir.back() == '/' ? dir + file : dir + "/" + file;
+}
+
+// Times must not go backwards in files that describe one motion in order.
+void checkTimeOrder(const CsvTable& table, size_t row, size_t time_col, int64_t previous, int64_t current) {
+  if (row > 0 && current < previous) {
+    throw std::runtime_error(table.where(row, time_col) + "time goes backwards (" +
+                             table.text(row, time_col) + " after " + table.text(row - 1, time_col) + ")");
+  }
+}
+
+}  // namespace
+
+Path loadPathCsv(const std::string& path, double heading_offset_rad) {
+  const CsvTable table(path);
+  const size_t t = table.column("time_s"), x = table.column("x_m"), y = table.column("y_m"),
+               h = table.column("heading_rad");
+  Path poses(table.rows());
+  for (size_t r = 0; r < table.rows(); ++r) {
+    poses[r].utime = utimeFromSeconds(table.number(r, t));
+    poses[r].x_m = table.number(r, x);
+    poses[r].y_m = table.number(r, y);
+    poses[r].heading_rad = table.number(r, h) + heading_offset_rad;
+    if (r > 0) checkTimeOrder(table, r, t, poses[r - 1].utime, poses[r].utime);
+  }
+  return poses;
+}
+
+Map loadLandmarksCsv(const std::string& path) {
+  const CsvTable table(path);
+  const size_t id = table.column("beacon_id"), x = table.column("x_m"), y = table.column("y_m");
+  Map beacons(table.rows());
+  std::set<int> seen;
+  for (size_t r = 0; r < table.rows(); ++r) {
+    beacons[r].id = table.integer(r, id);
+    beacons[r].x_m = table.number(r, x);
+    beacons[r].y_m = table.number(r, y);
+    if (!seen.insert(beacons[r].id).second) {
+      throw std::runtime_error(table.where(r, id) + "beacon " + std::to_string(beacons[r].id) +
+                               " appears twice");
+    }
+  }
+  return beacons;
+}
+
+std::vector<Odometry> loadOdometryCsv(const std::string& path) {
+  const CsvTable table(path);
+  const size_t t = table.column("time_s"), d = table.column("delta_distance_m"),
+               h = table.column("delta_heading_rad");
+  std::vector<Odometry> odometry(table.rows());
+  for (size_t r = 0; r < table.rows(); ++r) {
+    odometry[r].utime = utimeFromSeconds(table.number(r, t));
+    odometry[r].delta_distance_m = table.number(r, d);
+    odometry[r].delta_heading_rad = table.number(r, h);
+    if (r > 0) checkTimeOrder(table, r, t, odometry[r - 1].utime, odometry[r].utime);
+  }
+  return odometry;
+}
+
+std::vector<Odometry> odometryFromPathCsv(const std::string& path, const Pose& start,
+                                          double heading_offset_rad) {
+  const CsvTable table(path);
+  const size_t t = table.column("time_s"), x = table.column("x_m"), y = table.column("y_m");
+  const bool has_heading = table.hasColumn("heading_rad");
+  if (table.rows() == 0) throw std::runtime_error(path + ":2: no rows (expected a path)");
+
+  // Steps 1..n (n = rows - 1): length and direction of travel.
+  const size_t n = table.rows() - 1;
+  std::vector<Odometry> odometry(n);
+  std::vector<double> direction_rad(n);
+  double prev_x = table.number(0, x), prev_y = table.number(0, y);
+  int64_t prev_utime = utimeFromSeconds(table.number(0, t));
+  for (size_t k = 0; k < n; ++k) {
+    const size_t r = k + 1;
+    const int64_t utime = utimeFromSeconds(table.number(r, t));
+    checkTimeOrder(table, r, t, prev_utime, utime);
+    const double px = table.number(r, x), py = table.number(r, y);
+    const double dx = px - prev_x, dy = py - prev_y;
+    odometry[k].utime = utime;
+    odometry[k].delta_distance_m = std::hypot(dx, dy);
+    if (k == 0) {
+      direction_rad[k] = has_heading ? table.number(0, table.column("heading_rad")) + heading_offset_rad
+                                     : start.heading_rad;
+    } else if (odometry[k].delta_distance_m >= kMinStepForDirection_m) {
+      direction_rad[k] = std::atan2(dy, dx);
+    } else {
+      direction_rad[k] = direction_rad[k - 1];  // no direction: carry the last one
+    }
+    prev_x = px;
+    prev_y = py;
+    prev_utime = utime;
+  }
+  for (size_t k = 0; k + 1 < n; ++k) {
+    odometry[k].delta_heading_rad = wrapAngle(direction_rad[k + 1] - direction_rad[k]);
+  }
+  return odometry;
+}
+
+std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons) {
+  const CsvTable table(path);
+  const size_t t = table.column("time_s"), id = table.column("beacon_id"), range = table.column("range_m");
+  const bool has_sigma = table.hasColumn("sigma_m");
+  const bool has_bearing = table.hasColumn("bearing_rad");
+  const size_t sigma = has_sigma ? table.column("sigma_m") : 0;
+  const size_t bearing = has_bearing ? table.column("bearing_rad") : 0;
+  std::set<int> known;
+  std::string known_list;
+  for (const Beacon& b : beacons) {
+    known.insert(b.id);
+    known_list += (known_list.empty() ? "" : ", ") + std::to_string(b.id);
+  }
+  std::vector<Range> ranges(table.rows());
+  for (size_t r = 0; r < table.rows(); ++r) {
+    Range& out = ranges[r];
+    out.utime = utimeFromSeconds(table.number(r, t));
+    out.beacon_id = table.integer(r, id);
+    if (!known.count(out.beacon_id)) {
+      throw std::runtime_error(table.where(r, id) + "beacon " + std::to_string(out.beacon_id) +
+                               " is not in landmarks.csv (ids: " + known_list + ")");
+    }
+    out.range_m = table.number(r, range);
+    if (has_sigma) out.sigma_m = table.number(r, sigma);
+    if (has_bearing) {
+      out.has_bearing = true;
+      out.bearing_rad = table.number(r, bearing);
+    }
+  }
+  std::stable_sort(ranges.begin(), ranges.end(),
+                   [](const Range& a, const Range& b) { return a.utime < b.utime; });
+  return ranges;
+}
+
+Dataset loadCsvDataset(const std::string& dir, const CsvImportOptions& options) {
+  Dataset dataset;
+  const std::string gt_file = joinPath(dir, "groundtruth.csv");
+  dataset.ground_truth = loadPathCsv(gt_file, options.heading_offset_rad);
+  if (dataset.ground_truth.empty()) {
+    throw std::runtime_error(gt_file + ":2: no rows (the start pose is the first ground-truth row)");
+  }
+  dataset.start = dataset.ground_truth.front();
+  dataset.beacons = loadLandmarksCsv(joinPath(dir, "landmarks.csv"));
+  dataset.odometry = options.odometry_from_path.empty()
+                         ? loadOdometryCsv(joinPath(dir, "odometry.csv"))
+                         : odometryFromPathCsv(options.odometry_from_path, dataset.start,
+                                               options.heading_offset_rad);
+  dataset.ranges = loadRangesCsv(joinPath(dir, "ranges.csv"), dataset.beacons);
+  return dataset;
+}
+
+}  // namespace roam

@@ -1,0 +1,51 @@
+// readResultLog: what roam-eval and roam-export need from a log — ground truth, surveyed
+// beacons, the inputs for a dead-reckoning baseline, and every estimator's outputs.
+//
+// Estimators are found from the POSE_ / TRAJECTORY_ / MAP_ / STATUS_ channels; the key is the
+// channel suffix (upper case), the name the messages' `estimator` field (the suffix if empty).
+// An event that does not decode as its channel's type is skipped and counted; so is a cut
+// event at the end of the file. Other channels are ignored.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "roam/types.hpp"
+
+namespace roam {
+
+struct EstimatorOutputs {
+  std::string suffix;             // channel suffix, e.g. "SPECTRAL"
+  std::string name;               // estimator field, e.g. "spectral"
+  Path poses;                     // every POSE_<suffix>, in log order
+  std::optional<Path> trajectory; // the last TRAJECTORY_<suffix>
+  std::optional<Map> map;         // the last MAP_<suffix>
+  std::optional<double> cpu_total_s;  // of the last STATUS_<suffix>
+  std::string state;              // of the last STATUS_: initializing|tracking|finished|failed
+  std::string last_error;
+
+  // The path roam-eval scores: the last trajectory if any, else the poses.
+  const Path& scoredPath() const { return trajectory ? *trajectory : poses; }
+};
+
+struct ResultLog {
+  std::string path;
+  Path ground_truth;               // GROUND_TRUTH, log order
+  std::optional<Map> beacons;      // the last BEACONS
+  std::optional<Pose> start;       // the first INITIAL_POSE
+  std::vector<Odometry> odometry;  // ODOMETRY, log order
+  std::vector<EstimatorOutputs> estimators;  // in order of first appearance
+  long events = 0;
+  long skipped = 0;                // undecodable events (and a cut last event)
+
+  const EstimatorOutputs* find(const std::string& name_or_suffix) const;
+};
+
+// Throws std::runtime_error("<path>: cannot open ...") if the file is not a readable log.
+ResultLog readResultLog(const std::string& path);
+
+// x += d cos th; y += d sin th; th += dth from `start`; one pose per odometry step (plus start).
+Path integrateOdometry(const Pose& start, const std::vector<Odometry>& odometry);
+
+}  // namespace roam

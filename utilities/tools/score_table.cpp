@@ -1,0 +1,242 @@
+#include "score_table.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace roam {
+namespace {
+
+std::string fixed(double value, int decimals) {
+  if (!std::isfinite(value)) return "-";
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+  return buffer;
+}
+
+std::string exact(double value) {  // CSV / JSON: every digit, empty when unknown
+  if (!std::isfinite(value)) return "";
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.17g", value);
+  return buffer;
+}
+
+std::string jsonNumber(double value) {
+  const std::string text = exact(value);
+  return text.empty() ? "null" : text;
+}
+
+std::string jsonString(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') out += std::string("\\") + c;
+    else if (static_cast<unsigned char>(c) < 0x20) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
+      out += buffer;
+    } else out += c;
+  }
+  return out + "\"";
+}
+
+std::string csvField(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += (c == '"') ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+const EstimatorScore* findEstimator(const RunScores& run, const std::string& name) {
+  for (const auto& e : run.estimators) {
+    if (e.estimator == name) return &e;
+  }
+  return nullptr;
+}
+
+// Estimator names over all runs, in order of first appearance.
+std::vector<std::string> estimatorNames(const std::vector<RunScores>& runs) {
+  std::vector<std::string> names;
+  for (const auto& run : runs) {
+    for (const auto& e : run.estimators) {
+      if (std::find(names.begin(), names.end(), e.estimator) == names.end()) names.push_back(e.estimator);
+    }
+  }
+  return names;
+}
+
+using Table = std::vector<std::vector<std::string>>;  // row 0 = header
+
+Table buildTable(const std::vector<RunScores>& runs, TableMetric metric) {
+  const bool mean = metric != TableMetric::kRmse, rmse = metric != TableMetric::kMean;
+  const bool both = mean && rmse;
+  Table table;
+  std::vector<std::string> header{"estimator", "segment"};
+  for (const auto& run : runs) {
+    if (mean) header.push_back(run.run + " mean (m)");
+    if (rmse) header.push_back(run.run + " RMSE (m)");
+  }
+  table.push_back(header);
+  const int per_run = both ? 2 : 1;
+  struct Segment {
+    const char* label;
+    const ErrorStats PathScore::*stats;
+  };
+  const Segment segments[] = {{"full path", &PathScore::full},
+                              {"last 10 %", &PathScore::last10},
+                              {"best 10 %", &PathScore::best10},
+                              {"worst 10 %", &PathScore::worst10}};
+  for (const std::string& name : estimatorNames(runs)) {
+    bool first = true;
+    for (const Segment& segment : segments) {
+      std::vector<std::string> row{first ? name : "", segment.label};
+      first = false;
+      for (const auto& run : runs) {
+        const EstimatorScore* e = findEstimator(run, name);
+        const ErrorStats* stats = e ? &(e->score.*segment.stats) : nullptr;
+        if (mean) row.push_back(stats ? fixed(stats->mean_m, 2) : "-");
+        if (rmse) row.push_back(stats ? fixed(stats->rmse_m, 2) : "-");
+      }
+      table.push_back(row);
+    }
+    auto single = [&](const char* label, auto value_of) {
+      std::vector<std::string> row{"", label};
+      for (const auto& run : runs) {
+        const EstimatorScore* e = findEstimator(run, name);
+        row.push_back(e ? value_of(*e) : "-");
+        for (int i = 1; i < per_run; ++i) row.push_back("");
+      }
+      table.push_back(row);
+    };
+    single("max", [](const EstimatorScore& e) { return fixed(e.score.max_m, 2); });
+    single("beacons", [](const EstimatorScore& e) { return fixed(e.score.beacon_error_m, 2); });
+    single("CPU (s)", [](const EstimatorScore& e) { return e.cpu_s ? fixed(*e.cpu_s, 3) : "-"; });
+  }
+  return table;
+}
+
+std::string renderText(const Table& table) {
+  std::vector<size_t> width(table[0].size(), 0);
+  for (const auto& row : table)
+    for (size_t i = 0; i < row.size(); ++i) width[i] = std::max(width[i], row[i].size());
+  std::ostringstream out;
+  for (size_t r = 0; r < table.size(); ++r) {
+    const auto& row = table[r];
+    if (r > 0 && !row[0].empty()) {  // a rule before each estimator
+      size_t total = 0;
+      for (size_t w : width) total += w + 2;
+      out << std::string(total - 2, '-') << "\n";
+    }
+    std::string line;
+    for (size_t i = 0; i < row.size(); ++i) {
+      const std::string& cell = row[i];
+      const std::string pad(width[i] - cell.size(), ' ');
+      line += (i < 2 ? cell + pad : pad + cell);  // names left, numbers right
+      if (i + 1 < row.size()) line += "  ";
+    }
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    out << line << "\n";
+  }
+  return out.str();
+}
+
+std::string renderMarkdown(const Table& table) {
+  std::ostringstream out;
+  for (size_t r = 0; r < table.size(); ++r) {
+    out << "|";
+    for (const auto& cell : table[r]) out << " " << cell << " |";
+    out << "\n";
+    if (r == 0) {
+      out << "|";
+      for (size_t i = 0; i < table[0].size(); ++i) out << (i < 2 ? "---|" : "---:|");
+      out << "\n";
+    }
+  }
+  return out.str();
+}
+
+std::string renderCsv(const std::vector<RunScores>& runs) {
+  std::ostringstream out;
+  out << "run,estimator,scored,matched,full_mean_m,full_rmse_m,last10_mean_m,last10_rmse_m,"
+         "best10_mean_m,best10_rmse_m,worst10_mean_m,worst10_rmse_m,max_m,beacon_error_m,cpu_s,state\n";
+  for (const auto& run : runs) {
+    for (const auto& e : run.estimators) {
+      const PathScore& s = e.score;
+      out << csvField(run.run) << "," << csvField(e.estimator) << "," << e.scored << "," << s.matched;
+      for (const ErrorStats* stats : {&s.full, &s.last10, &s.best10, &s.worst10})
+        out << "," << exact(stats->mean_m) << "," << exact(stats->rmse_m);
+      out << "," << exact(s.max_m) << "," << exact(s.beacon_error_m) << ","
+          << (e.cpu_s ? exact(*e.cpu_s) : "") << "," << csvField(e.state) << "\n";
+    }
+  }
+  return out.str();
+}
+
+std::string renderJson(const std::vector<RunScores>& runs) {
+  std::ostringstream out;
+  auto stats = [](const ErrorStats& s) {
+    return "{\"mean_m\": " + jsonNumber(s.mean_m) + ", \"rmse_m\": " + jsonNumber(s.rmse_m) +
+           ", \"count\": " + std::to_string(s.count) + "}";
+  };
+  out << "{\"runs\": [";
+  for (size_t r = 0; r < runs.size(); ++r) {
+    const RunScores& run = runs[r];
+    out << (r ? ",\n" : "\n") << "  {\"run\": " << jsonString(run.run) << ", \"log\": " << jsonString(run.log)
+        << ", \"events\": " << run.events << ", \"skipped_events\": " << run.skipped
+        << ", \"ground_truth\": " << run.ground_truth << ", \"estimators\": [";
+    for (size_t i = 0; i < run.estimators.size(); ++i) {
+      const EstimatorScore& e = run.estimators[i];
+      const PathScore& s = e.score;
+      out << (i ? ",\n" : "\n") << "    {\"estimator\": " << jsonString(e.estimator)
+          << ", \"scored\": " << jsonString(e.scored) << ", \"matched\": " << s.matched
+          << ", \"full\": " << stats(s.full) << ", \"last10\": " << stats(s.last10)
+          << ", \"best10\": " << stats(s.best10) << ", \"worst10\": " << stats(s.worst10)
+          << ", \"max_m\": " << jsonNumber(s.max_m) << ", \"beacon_error_m\": " << jsonNumber(s.beacon_error_m)
+          << ", \"cpu_s\": " << (e.cpu_s ? jsonNumber(*e.cpu_s) : "null")
+          << ", \"state\": " << jsonString(e.state) << "}";
+    }
+    out << "\n  ]}";
+  }
+  out << "\n]}\n";
+  return out.str();
+}
+
+}  // namespace
+
+RunScores scoreRun(const ResultLog& log, const std::string& run, bool aligned, bool with_odometry) {
+  RunScores scores;
+  scores.run = run;
+  scores.log = log.path;
+  scores.events = log.events;
+  scores.skipped = log.skipped;
+  scores.ground_truth = log.ground_truth.size();
+  if (with_odometry && log.start && !log.odometry.empty()) {
+    EstimatorScore e;
+    e.estimator = kOdometryRowName;
+    e.scored = "odometry";
+    e.score = scorePath(integrateOdometry(*log.start, log.odometry), log.ground_truth, aligned);
+    scores.estimators.push_back(e);
+  }
+  for (const EstimatorOutputs& out : log.estimators) {
+    EstimatorScore e;
+    e.estimator = out.name;
+    e.scored = out.trajectory ? "trajectory" : "poses";
+    e.score = scorePath(out.scoredPath(), log.ground_truth, aligned, out.map, log.beacons);
+    e.cpu_s = out.cpu_total_s;
+    e.state = out.state;
+    scores.estimators.push_back(e);
+  }
+  return scores;
+}
+
+std::string formatScores(const std::vector<RunScores>& runs, TableFormat format, TableMetric metric) {
+  switch (format) {
+    case TableFormat::kText: return renderText(buildTable(runs, metric));
+    case TableFormat::kMarkdown: return renderMarkdown(buildTable(runs, metric));
+    case TableFormat::kCsv: return renderCsv(runs);
+    case TableFormat::kJson: return renderJson(runs);
+  }
+  return "";
+}
+
+}  // namespace roam
