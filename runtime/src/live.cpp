@@ -1,5 +1,8 @@
 #include "live.hpp"
 
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <chrono>
 #include <cstdio>
 #include <lcm/lcm-cpp.hpp>
@@ -39,16 +42,41 @@ class WallClockLogSink : public Sink {
   LogSink* log_;
 };
 
+// Feeds received messages to the host and measures the lag from reception to the end of
+// handling: if the estimators could not keep up, the lag would grow with the backlog.
 class Receiver {
  public:
   explicit Receiver(Host* host) : host_(host) {}
   void onMessage(const lcm::ReceiveBuffer* buffer, const std::string& channel) {
     host_->onEvent(channel, buffer->recv_utime, buffer->data, static_cast<int>(buffer->data_size));
     host_->maybeRequestTrajectories();
+    lags_ms_.push_back(static_cast<double>(wallUtime() - buffer->recv_utime) * 1e-3);
+  }
+  // "N messages; handling lag median X ms, 99th percentile Y ms, max Z ms"
+  std::string lagSummary() {
+    if (lags_ms_.empty()) return "no messages received";
+    std::vector<double> sorted = lags_ms_;
+    std::sort(sorted.begin(), sorted.end());
+    auto at = [&](double q) { return sorted[static_cast<size_t>(q * static_cast<double>(sorted.size() - 1))]; };
+    // Compare the first and last tenth: a growing backlog shows as a growing lag.
+    const size_t tenth = std::max<size_t>(1, lags_ms_.size() / 10);
+    double first = 0.0, last = 0.0;
+    for (size_t i = 0; i < tenth; ++i) {
+      first += lags_ms_[i];
+      last += lags_ms_[lags_ms_.size() - 1 - i];
+    }
+    char text[256];
+    std::snprintf(text, sizeof(text),
+                  "%zu messages; handling lag median %.2f ms, 99th percentile %.2f ms, max %.2f ms; "
+                  "mean lag first tenth %.2f ms, last tenth %.2f ms",
+                  sorted.size(), at(0.5), at(0.99), sorted.back(), first / static_cast<double>(tenth),
+                  last / static_cast<double>(tenth));
+    return text;
   }
 
  private:
   Host* host_;
+  std::vector<double> lags_ms_;
 };
 
 }  // namespace
@@ -81,7 +109,8 @@ int runLive(const RunConfig& config, std::vector<EstimatorSlot> slots, LogSink* 
   while (!stop.load()) {
     const int rc = bus.handleTimeout(100);
     if (rc < 0) {
-      std::fprintf(stderr, "roam-run: error: the LCM bus failed\n");
+      if (errno == EINTR || stop.load()) continue;  // a signal: the loop condition decides
+      std::fprintf(stderr, "roam-run: error: the LCM bus failed: %s\n", std::strerror(errno));
       break;
     }
     const auto now = std::chrono::steady_clock::now();
@@ -95,6 +124,7 @@ int runLive(const RunConfig& config, std::vector<EstimatorSlot> slots, LogSink* 
     }
   }
   (*host)->finish();
+  std::fprintf(stderr, "live: %s\n", receiver.lagSummary().c_str());
   return 0;
 }
 
