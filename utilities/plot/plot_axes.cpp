@@ -1,0 +1,131 @@
+#include "plot_axes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace roam {
+namespace plot {
+
+double niceStep(double span, int max_ticks) {
+  const double raw = span / std::max(1, max_ticks);
+  double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
+  for (;;) {
+    for (double m : {1.0, 2.0, 5.0}) {
+      if (m * magnitude >= raw * (1 - 1e-12)) return m * magnitude;
+    }
+    magnitude *= 10;
+  }
+}
+
+std::vector<double> tickValues(double lo, double hi, double step) {
+  std::vector<double> ticks;
+  const double eps = 1e-9 * step;
+  for (double k = std::ceil((lo - eps) / step); k * step <= hi + eps; k += 1) ticks.push_back(k * step);
+  return ticks;
+}
+
+std::string tickLabel(double value, double step) {
+  int decimals = 0;
+  while (decimals < 6 && std::fabs(step * std::pow(10.0, decimals) - std::round(step * std::pow(10.0, decimals))) >
+                             1e-6 * step * std::pow(10.0, decimals))
+    ++decimals;
+  if (std::fabs(value) < 0.5 * step * 1e-6) value = 0.0;
+  char buffer[48];
+  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+  return buffer;
+}
+
+Point Frame::toPixel(double x, double y) const {
+  return {left_px + (x - x_lo) * pixelsPerUnitX(), top_px + (y_hi - y) * pixelsPerUnitY()};
+}
+
+void drawAxes(SvgWriter& svg, const Frame& frame, const AxisLabels& labels) {
+  const Stroke grid{"#e3e3e3", 1.0};
+  const Stroke tick{"#555555", 1.0};
+  TextStyle label;
+  label.size_px = 11;
+  label.colour = "#444444";
+  const double right = frame.left_px + frame.width_px, bottom = frame.top_px + frame.height_px;
+  svg.openGroup("axes");
+  for (double x : tickValues(frame.x_lo, frame.x_hi, labels.x_step)) {
+    const double px = frame.toPixel(x, 0).x;
+    svg.line(px, frame.top_px, px, bottom, grid);
+    svg.line(px, bottom, px, bottom + 4, tick);
+    label.anchor = "middle";
+    svg.text(px, bottom + 16, tickLabel(x, labels.x_step), label);
+  }
+  for (double y : tickValues(frame.y_lo, frame.y_hi, labels.y_step)) {
+    const double py = frame.toPixel(0, y).y;
+    svg.line(frame.left_px, py, right, py, grid);
+    svg.line(frame.left_px - 4, py, frame.left_px, py, tick);
+    label.anchor = "end";
+    svg.text(frame.left_px - 6, py + 4, tickLabel(y, labels.y_step), label);
+  }
+  svg.rect(frame.left_px, frame.top_px, frame.width_px, frame.height_px, "none", Stroke{"#888888", 1.0});
+  TextStyle title;
+  title.size_px = 12;
+  title.anchor = "middle";
+  title.colour = "#333333";
+  if (!labels.x.empty()) svg.text(frame.left_px + frame.width_px / 2, bottom + 31, labels.x, title);
+  if (!labels.y.empty()) {
+    title.rotate_deg = -90;
+    const double x = frame.left_px - 40, y = frame.top_px + frame.height_px / 2;
+    svg.text(x, y, labels.y, title);
+  }
+  svg.closeGroup();
+}
+
+void drawScaleBar(SvgWriter& svg, const Frame& frame) {
+  const double px_per_m = frame.pixelsPerUnitX();
+  const double target_m = 0.2 * frame.width_px / px_per_m;
+  // The largest 1, 2, 5 x 10^k not above a fifth of the width.
+  double length_m = niceStep(target_m, 1);
+  if (length_m > target_m * (1 + 1e-12)) {  // one nice value down: 5 -> 2, 2 -> 1, 1 -> 0.5
+    const double mantissa = length_m / std::pow(10.0, std::floor(std::log10(length_m) + 1e-12));
+    length_m /= std::fabs(mantissa - 5.0) < 1e-6 ? 2.5 : 2.0;
+  }
+  const double length_px = length_m * px_per_m;
+  const double right = frame.left_px + frame.width_px, y = frame.top_px + frame.height_px + 31;
+  svg.openGroup("scale-bar");
+  const Stroke bar{"#222222", 2.0};
+  svg.line(right - length_px, y, right, y, bar);
+  svg.line(right - length_px, y - 5, right - length_px, y + 3, bar);
+  svg.line(right, y - 5, right, y + 3, bar);
+  TextStyle text;
+  text.size_px = 11;
+  text.anchor = "end";
+  svg.text(right - length_px - 6, y + 4, tickLabel(length_m, length_m) + " m", text);
+  svg.closeGroup();
+}
+
+std::vector<Point> toPixels(const Frame& frame, const std::vector<double>& xs, const std::vector<double>& ys,
+                            double min_spacing_px) {
+  std::vector<Point> points;
+  const double limit = 20.0 * std::max(frame.width_px, frame.height_px);
+  auto clamp = [&](double v, double origin) { return std::clamp(v, origin - limit, origin + limit); };
+  const size_t n = std::min(xs.size(), ys.size());
+  size_t last_index = 0;
+  bool pending = false;
+  for (size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(xs[i]) || !std::isfinite(ys[i])) continue;
+    Point p = frame.toPixel(xs[i], ys[i]);
+    p.x = clamp(p.x, frame.left_px);
+    p.y = clamp(p.y, frame.top_px);
+    if (!points.empty() && std::hypot(p.x - points.back().x, p.y - points.back().y) < min_spacing_px) {
+      last_index = i;
+      pending = true;
+      continue;
+    }
+    points.push_back(p);
+    pending = false;
+  }
+  if (pending) {  // keep the very last point
+    Point p = frame.toPixel(xs[last_index], ys[last_index]);
+    points.push_back({clamp(p.x, frame.left_px), clamp(p.y, frame.top_px)});
+  }
+  return points;
+}
+
+}  // namespace plot
+}  // namespace roam

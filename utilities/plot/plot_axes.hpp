@@ -1,0 +1,52 @@
+// Axes for roam-plot: "nice" tick steps (1, 2, 5 x 10^k), a data-to-pixel frame, tick marks with
+// labels and grid lines, and a metre scale bar.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "svg_writer.hpp"
+
+namespace roam {
+namespace plot {
+
+// The smallest of 1, 2, 5 x 10^k that cuts `span` into at most `max_ticks` intervals (span > 0).
+double niceStep(double span, int max_ticks);
+
+// Multiples of `step` inside [lo, hi] (with a tolerance of 1e-9 step at both ends).
+std::vector<double> tickValues(double lo, double hi, double step);
+
+// A tick label with as many decimals as `step` needs ("10", "2.5", "0.25"); never "-0".
+std::string tickLabel(double value, double step);
+
+// A rectangle of pixels showing data [x_lo, x_hi] x [y_lo, y_hi], data y pointing up.
+struct Frame {
+  double left_px = 0, top_px = 0, width_px = 0, height_px = 0;
+  double x_lo = 0, x_hi = 1, y_lo = 0, y_hi = 1;
+
+  Point toPixel(double x, double y) const;
+  double pixelsPerUnitX() const { return width_px / (x_hi - x_lo); }
+  double pixelsPerUnitY() const { return height_px / (y_hi - y_lo); }
+};
+
+struct AxisLabels {
+  std::string x, y;
+  double x_step = 1, y_step = 1;  // tick steps in data units
+};
+
+// Light grid lines, a frame, ticks and their labels outside the frame, and the axis titles.
+void drawAxes(SvgWriter& svg, const Frame& frame, const AxisLabels& labels);
+
+// A bar of a nice length up to a fifth of the frame's width, labelled "<n> m", right-aligned
+// below the frame under the tick labels (so it never hides data; it needs ~36 px of margin).
+// The frame must be metric (pixels per metre equal in x and y).
+void drawScaleBar(SvgWriter& svg, const Frame& frame);
+
+// Pixel points of a data polyline, dropping points closer than `min_spacing_px` to the last kept
+// one (the last point is always kept) and non-finite ones; coordinates far outside the frame are
+// clamped so that a diverged estimate still writes short numbers (the frame's clip hides them).
+std::vector<Point> toPixels(const Frame& frame, const std::vector<double>& xs, const std::vector<double>& ys,
+                            double min_spacing_px = 0.7);
+
+}  // namespace plot
+}  // namespace roam
