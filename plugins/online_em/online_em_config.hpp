@@ -1,0 +1,91 @@
+// Configuration of the online EM SLAM core (Le Corff, Fort & Moulines 2011), with the
+// defaults and the reason for each. addOnlineEmOptions() registers every key with its check;
+// the plugin shim, the tools and the tests share it so that a key has one definition.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "roam/options.hpp"
+
+namespace roam {
+
+struct OnlineEmConfig {
+  // Frame: "start_pose" (known first pose, beacons unknown: multilateration) or "beacons"
+  // (surveyed BEACONS enter the M-step as a prior, as pseudo-observations).
+  std::string anchor = "start_pose";
+  int num_particles = 100;  // the paper's N
+  int seed = 1;             // std::mt19937_64 seed: the same input gives the same output
+
+  // Ancestor draw each step: "multinomial" (Algorithm 1: J^l ~ {w_{t-1}^j}, independently) or
+  // "systematic" (one uniform, stratified: same expectation, less resampling noise; with equal
+  // weights every particle keeps exactly one child, so steps without ranges lose no diversity).
+  // Default systematic: on the seeded synthetic runs of tests/online_em with the exact map it
+  // halves the path error of 100 particles (0.59 -> 0.31 m); multinomial is the paper's choice.
+  std::string resampling = "systematic";
+
+  // Motion model. "odometry": move then turn with (d, dtheta) plus noise in the frame of the
+  // previous pose (forward, lateral, heading). "bicycle": the paper's Sec. 4.1 model, controls
+  // (v, psi) with wheelbase B recovered from (d, dtheta) = (v dt, v dt sin(psi) / B).
+  std::string motion_model = "odometry";
+  // Odometry noise, per step: sigma_forward = rel * d + abs, sigma_lateral = rel * d + abs,
+  // sigma_heading = heading_sigma_rad. Defaults: wheel odometry of a lawn-mower-class robot:
+  // 2 % of distance (slip), 1 mm floor (keeps the transition density non-degenerate when the
+  // robot stands still), 0.005 rad per step (~0.3 deg: a gyro-less heading random walk that
+  // drifts ~0.5 rad over 10^4 steps, the order of magnitude of wheel-odometry heading drift).
+  double odo_distance_sigma_rel = 0.02;
+  double odo_distance_sigma_m = 0.001;
+  double odo_heading_sigma_rad = 0.005;
+  // Bicycle model (paper Sec. 4.1): sigma_v (m/s), sigma_psi (rad), wheelbase B (m), and a
+  // small heading jitter that makes the 2-D control noise a proper 3-D density for smoothing.
+  double wheelbase_m = 1.5;
+  double speed_sigma_mps = 0.5;
+  double steer_sigma_rad = 0.05235987755982988;  // pi / 60
+  double heading_jitter_rad = 0.001;
+
+  // Observation noise: delta ~ w0 N(0, sigma0^2 R) + (1 - w0) N(0, sigma1^2 R), R = [[sr^2, rho],
+  // [rho, sb^2]] (range-only: sr^2). Defaults: the paper's Sec. 4.1 values (w0 0.8, sigma0 1,
+  // sigma1 5, sr 0.5 m, sb pi/60 rad, rho 0.01): 0.5 m is the usual UWB ranging accuracy and the
+  // wide component absorbs multipath outliers. A range's own sigma (> 0) replaces sr.
+  double mixture_weight0 = 0.8;
+  double mixture_sigma0 = 1.0;
+  double mixture_sigma1 = 5.0;
+  double range_sigma_m = 0.5;
+  double bearing_sigma_rad = 0.05235987755982988;  // pi / 60
+  double range_bearing_cov = 0.01;
+  // Mixture indicators: "sampled" (Algorithm 1: I ~ Bernoulli(w1) per particle, the weight and
+  // the statistic use the sampled component) or "marginal" (Rao-Blackwellised: the weight uses
+  // the mixture likelihood, the statistic the posterior probabilities of the two components).
+  std::string indicators = "sampled";
+
+  // Stochastic approximation: gamma_n = c / n^alpha per landmark, n = its own observation count.
+  double step_c = 1.0;
+  double step_alpha = 0.8;
+  int mstep_every = 1;  // M-step after every k-th step that observed a landmark
+
+  // Range model r = scale * |beacon - robot| + offset, (scale, offset) in the parameter theta.
+  // Priors (pseudo-observations): scale ~ N(1, 0.1^2) (UWB clock/antenna errors of a few %),
+  // offset ~ N(0, 1 m^2) (antenna delay).
+  bool estimate_range_scale = true;
+  bool estimate_range_offset = true;
+  double range_scale_prior_sigma = 0.1;
+  double range_offset_prior_sigma_m = 1.0;
+  // Prior sigma of a surveyed beacon whose covariance is not given (anchor = beacons).
+  double beacon_prior_sigma_m = 0.1;
+
+  // Multilateration of a new landmark: wait for this many ranges taken from positions whose
+  // spread (sqrt of the smaller eigenvalue of their covariance) is at least init_min_spread_m,
+  // so that the mirror ambiguity of a straight path is resolved.
+  int init_min_ranges = 12;
+  double init_min_spread_m = 3.0;
+
+  double max_step_m = 10.0;  // odometry steps longer than this are rejected as jumps
+};
+
+// Registers every key (with its check) on `options`, bound to `config`.
+void addOnlineEmOptions(Options& options, OnlineEmConfig* config);
+
+// "" if the config is usable, else the broken constraint ("num_particles >= 2").
+std::string validate(const OnlineEmConfig& config);
+
+}  // namespace roam

@@ -1,0 +1,442 @@
+#include "online_em_slam.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include <Eigen/Dense>
+
+#include "multilateration.hpp"
+#include "roam/options.hpp"
+
+namespace roam {
+
+namespace {
+
+// Normalises log-weights in place to weights summing to 1 (log-sum-exp).
+Eigen::ArrayXd normalise(const Eigen::ArrayXd& log_weight) {
+  Eigen::ArrayXd w = (log_weight - log_weight.maxCoeff()).exp();
+  return w / w.sum();
+}
+
+}  // namespace
+
+OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
+    : config_(config), motion_(config_), observation_(config_),
+      rng_(static_cast<uint64_t>(config.seed)) {
+  const std::string problem = validate(config_);
+  if (!problem.empty()) throw ConfigError("", "online_em: " + problem);
+  const int n = config_.num_particles;
+  particles_.resize(n);
+  previous_.resize(n);
+  ancestors_.resize(n);
+  ancestor_index_.assign(n, 0);
+  weights_ = Eigen::ArrayXd::Constant(n, 1.0 / n);
+  previous_weights_ = weights_;
+  statistics_.resize(n, 0);
+  setDiagnostic("num_particles", n);
+}
+
+void OnlineEmSlam::start(const Pose& pose) {
+  started_ = true;
+  last_utime_ = pose.utime;
+  particles_.x_m.setConstant(pose.x_m);
+  particles_.y_m.setConstant(pose.y_m);
+  particles_.heading_rad.setConstant(pose.heading_rad);
+  weights_.setConstant(1.0 / config_.num_particles);
+  setState(EstimatorState::kTracking);
+  publish(pose.utime);
+}
+
+void OnlineEmSlam::setInitialPose(const Pose& start_pose) {
+  if (started_) return;  // the start is fixed once filtering has begun
+  start(start_pose);
+}
+
+void OnlineEmSlam::setBeacons(const Map& surveyed) {
+  if (config_.anchor != "beacons") return;
+  for (const Beacon& beacon : surveyed) {
+    Landmark& landmark = landmarks_[landmarkIndex(beacon.id)];
+    Eigen::Matrix2d covariance;
+    covariance << beacon.covariance[0], beacon.covariance[1], beacon.covariance[2], beacon.covariance[3];
+    if (!covariance.allFinite() || covariance.determinant() <= 0.0)
+      covariance = Eigen::Matrix2d::Identity() * config_.beacon_prior_sigma_m * config_.beacon_prior_sigma_m;
+    landmark.has_prior = true;
+    landmark.prior_mean_m << beacon.x_m, beacon.y_m;
+    landmark.prior_information = covariance.inverse();
+    landmark.initialised = true;
+    landmark.position_m = landmark.prior_mean_m;
+    landmark.covariance = covariance;
+  }
+  emitMap(currentMap());
+}
+
+int OnlineEmSlam::landmarkIndex(int id) {
+  const auto found = index_of_id_.find(id);
+  if (found != index_of_id_.end()) return found->second;
+  const int index = static_cast<int>(landmarks_.size());
+  index_of_id_[id] = index;
+  landmarks_.emplace_back();
+  landmarks_.back().id = id;
+  statistics_.conservativeResize(Eigen::NoChange, kStatSize * (index + 1));
+  statistics_.rightCols(kStatSize).setZero();
+  return index;
+}
+
+Eigen::Vector4d OnlineEmSlam::phi(int landmark) const {
+  const Eigen::Vector2d& m = landmarks_[landmark].position_m;
+  return Eigen::Vector4d(m.x(), m.y(), range_scale_, range_offset_m_);
+}
+
+void OnlineEmSlam::interpolate(int k, double fraction, double* x_m, double* y_m,
+                               double* heading_rad) const {
+  const int a = ancestor_index_[k];
+  *x_m = previous_.x_m[a] + fraction * (particles_.x_m[k] - previous_.x_m[a]);
+  *y_m = previous_.y_m[a] + fraction * (particles_.y_m[k] - previous_.y_m[a]);
+  *heading_rad = previous_.heading_rad[a] + fraction * (particles_.heading_rad[k] - previous_.heading_rad[a]);
+}
+
+void OnlineEmSlam::resample() {
+  // Ancestors from the previous weights: multinomial (Algorithm 1) or systematic.
+  const int n = config_.num_particles;
+  std::vector<double> cumulative(n);
+  double sum = 0.0;
+  for (int j = 0; j < n; ++j) cumulative[j] = (sum += previous_weights_[j]);
+  std::uniform_real_distribution<double> uniform(0.0, sum);
+  const bool systematic = config_.resampling == "systematic";
+  const double offset = systematic ? uniform(rng_) / n : 0.0;
+  for (int l = 0; l < n; ++l) {
+    const double u = systematic ? offset + sum * l / n : uniform(rng_);
+    const int j = static_cast<int>(std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin());
+    ancestor_index_[l] = std::min(j, n - 1);
+  }
+}
+
+void OnlineEmSlam::addRange(const Range& range) {
+  if (!(range.range_m > 0.0)) {
+    rejectRange("range not positive");
+    return;
+  }
+  queued_ranges_.push_back(range);
+}
+
+void OnlineEmSlam::addOdometry(const Odometry& odometry) {
+  if (odometry.delta_distance_m < 0.0) {
+    rejectOdometry("negative distance");
+    return;
+  }
+  if (odometry.delta_distance_m > config_.max_step_m) {
+    rejectOdometry("step longer than max_step_m");
+    return;
+  }
+  if (!started_) {
+    // No INITIAL_POSE: start at the origin, at this step's time.
+    Pose origin;
+    origin.utime = odometry.utime;
+    start(origin);
+  }
+  if (odometry.utime < last_utime_) {
+    rejectOdometry("time went backwards");
+    return;
+  }
+  acceptOdometry();
+  const int n = config_.num_particles;
+  const int64_t step_start_utime = last_utime_;
+  const double dt_s = 1e-6 * static_cast<double>(odometry.utime - step_start_utime);
+
+  // 1. Sequential Monte Carlo: resample, propagate with the prior kernel.
+  previous_ = particles_;
+  previous_weights_ = weights_;
+  resample();
+  motion_.setControl(odometry.delta_distance_m, odometry.delta_heading_rad, dt_s);
+  for (int l = 0; l < n; ++l) motion_.sample(previous_, ancestor_index_[l], &particles_, l, rng_);
+
+  // Ranges up to this step's end; later ones wait for their step.
+  std::vector<Range> ranges;
+  std::vector<Range> later;
+  for (const Range& r : queued_ranges_) (r.utime <= odometry.utime ? ranges : later).push_back(r);
+  queued_ranges_.swap(later);
+
+  Eigen::ArrayXd log_weight = Eigen::ArrayXd::Zero(n);
+  std::vector<StepObservation> observations;
+  std::bernoulli_distribution wide(1.0 - config_.mixture_weight0);
+  for (const Range& r : ranges) {
+    acceptRange();
+    const int i = landmarkIndex(r.beacon_id);
+    StepObservation obs;
+    obs.landmark = i;
+    obs.y.range_m = r.range_m;
+    obs.y.sigma_m = r.sigma_m;
+    obs.y.has_bearing = r.has_bearing;
+    obs.y.bearing_rad = r.bearing_rad;
+    obs.fraction = odometry.utime > step_start_utime
+                       ? std::clamp(static_cast<double>(r.utime - step_start_utime) /
+                                        static_cast<double>(odometry.utime - step_start_utime), 0.0, 1.0)
+                       : 1.0;
+    Landmark& landmark = landmarks_[i];
+    if (!landmark.initialised) {
+      // Buffer at the particle-mean pose for multilateration.
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (int k = 0; k < n; ++k) {
+        double x, y, th;
+        interpolate(k, obs.fraction, &x, &y, &th);
+        mean += Eigen::Vector3d(x, y, th);
+      }
+      landmark.pending_poses.push_back(mean / n);
+      landmark.pending_observations.push_back(obs.y);
+      tryInitialise(i);
+      continue;
+    }
+    const Eigen::Vector4d phi_i = phi(i);
+    if (config_.indicators == "sampled") {
+      obs.component.resize(n);
+      for (int k = 0; k < n; ++k) {
+        obs.component[k] = wide(rng_) ? 1 : 0;
+        double x, y, th;
+        interpolate(k, obs.fraction, &x, &y, &th);
+        log_weight[k] += observation_.logLikelihood(obs.y, x, y, th, phi_i, obs.component[k]);
+      }
+    } else {
+      obs.wide_probability.resize(n);
+      for (int k = 0; k < n; ++k) {
+        double x, y, th;
+        interpolate(k, obs.fraction, &x, &y, &th);
+        double wide_probability = 0.0;
+        log_weight[k] += mixtureLogLikelihood(obs.y, x, y, th, phi_i, &wide_probability);
+        obs.wide_probability[k] = wide_probability;
+      }
+    }
+    observations.push_back(std::move(obs));
+  }
+  weights_ = normalise(log_weight);
+  if (!observations.empty()) {
+    const double ess = 1.0 / weights_.square().sum();
+    setDiagnostic("ess", ess);
+    min_ess_ = std::isnan(min_ess_) ? ess : std::min(min_ess_, ess);
+    setDiagnostic("ess_min", min_ess_);
+  }
+
+  // 2. Stochastic approximation with forward smoothing; 3. M-step.
+  smoothStatistics(observations);
+  if (!observations.empty() && ++observing_steps_ % config_.mstep_every == 0) mStep();
+
+  last_utime_ = odometry.utime;
+  publish(odometry.utime);
+}
+
+void OnlineEmSlam::smoothStatistics(std::vector<StepObservation>& observations) {
+  if (statistics_.cols() == 0) return;
+  const int n = config_.num_particles;
+  // K_kl ∝ w_{t-1}^l m(xi_t^k | xi_{t-1}^l), rows normalised.
+  motion_.logKernel(previous_, particles_, previous_weights_.log(), &log_kernel_);
+  const Eigen::VectorXd row_max = log_kernel_.rowwise().maxCoeff();
+  kernel_ = (log_kernel_.colwise() - row_max).array().exp().matrix();
+  const Eigen::VectorXd row_sum = kernel_.rowwise().sum();
+  kernel_ = row_sum.cwiseInverse().asDiagonal() * kernel_;
+  // Effective number of predecessors per particle, 1 / sum_l K_kl^2, averaged.
+  sum_effective_predecessors_ += (kernel_.rowwise().squaredNorm().cwiseInverse()).mean();
+  ++smoothing_steps_;
+  setDiagnostic("smoothing_effective_predecessors", sum_effective_predecessors_ / smoothing_steps_);
+  transported_.noalias() = kernel_ * statistics_;
+  statistics_.swap(transported_);
+
+  double stat[kStatSize];
+  for (StepObservation& obs : observations) {
+    Landmark& landmark = landmarks_[obs.landmark];
+    ++landmark.count;
+    const double gamma = std::min(1.0, config_.step_c / std::pow(static_cast<double>(landmark.count), config_.step_alpha));
+    const Eigen::Vector4d phi_i = phi(obs.landmark);
+    auto block = statistics_.middleCols(kStatSize * obs.landmark, kStatSize);
+    for (int k = 0; k < n; ++k) {
+      double x, y, th;
+      interpolate(k, obs.fraction, &x, &y, &th);
+      if (obs.component.empty()) {
+        double stat1[kStatSize];
+        observation_.statistic(obs.y, x, y, th, phi_i, 0, stat);
+        observation_.statistic(obs.y, x, y, th, phi_i, 1, stat1);
+        const double p1 = obs.wide_probability[k];
+        for (int s = 0; s < kStatSize; ++s) stat[s] = (1.0 - p1) * stat[s] + p1 * stat1[s];
+      } else {
+        observation_.statistic(obs.y, x, y, th, phi_i, obs.component[k], stat);
+      }
+      block.row(k) = (1.0 - gamma) * block.row(k) + gamma * Eigen::Map<const Eigen::RowVectorXd>(stat, kStatSize);
+    }
+  }
+}
+
+double OnlineEmSlam::mixtureLogLikelihood(const RangeObservation& y, double x_m, double y_m,
+                                          double heading_rad, const Eigen::Vector4d& phi_i,
+                                          double* wide_probability) const {
+  const double w0 = config_.mixture_weight0;
+  const double l0 = std::log(w0) + observation_.logLikelihood(y, x_m, y_m, heading_rad, phi_i, 0);
+  if (w0 >= 1.0) {
+    *wide_probability = 0.0;
+    return l0;
+  }
+  const double l1 = std::log(1.0 - w0) + observation_.logLikelihood(y, x_m, y_m, heading_rad, phi_i, 1);
+  const double top = std::max(l0, l1);
+  const double log_sum = top + std::log(std::exp(l0 - top) + std::exp(l1 - top));
+  *wide_probability = std::exp(l1 - log_sum);
+  return log_sum;
+}
+
+void OnlineEmSlam::tryInitialise(int i) {
+  Landmark& landmark = landmarks_[i];
+  std::vector<Eigen::Vector2d> positions;
+  std::vector<double> ranges;
+  for (size_t j = 0; j < landmark.pending_poses.size(); ++j) {
+    positions.push_back(landmark.pending_poses[j].head<2>());
+    ranges.push_back((landmark.pending_observations[j].range_m - range_offset_m_) / range_scale_);
+  }
+  std::optional<Eigen::Vector2d> position;
+  const RangeObservation& last = landmark.pending_observations.back();
+  if (last.has_bearing) {
+    // Range and bearing place the landmark at once: m = p + r (cos(th + b), sin(th + b)).
+    const Eigen::Vector3d& pose = landmark.pending_poses.back();
+    position = pose.head<2>() + ranges.back() * Eigen::Vector2d(std::cos(pose.z() + last.bearing_rad),
+                                                                std::sin(pose.z() + last.bearing_rad));
+    positions = {positions.back()};
+    landmark.pending_poses = {landmark.pending_poses.back()};
+    landmark.pending_observations = {last};
+  } else {
+    if (static_cast<int>(landmark.pending_poses.size()) < config_.init_min_ranges) return;
+    position = multilaterate(positions, ranges, config_.init_min_spread_m);
+  }
+  if (!position) return;
+  landmark.initialised = true;
+  landmark.position_m = *position;
+  // Its statistic starts as the average statistic of the buffered ranges, each with the
+  // posterior probabilities of the two mixture components at the new estimate.
+  const Eigen::Vector4d phi_i = phi(i);
+  Eigen::Matrix<double, 1, kStatSize> mean_stat = Eigen::Matrix<double, 1, kStatSize>::Zero();
+  double stat0[kStatSize], stat1[kStatSize];
+  for (size_t j = 0; j < positions.size(); ++j) {
+    const Eigen::Vector3d& p = landmark.pending_poses[j];
+    const RangeObservation& y = landmark.pending_observations[j];
+    double r1 = 0.0;
+    mixtureLogLikelihood(y, p.x(), p.y(), p.z(), phi_i, &r1);
+    observation_.statistic(y, p.x(), p.y(), p.z(), phi_i, 0, stat0);
+    observation_.statistic(y, p.x(), p.y(), p.z(), phi_i, 1, stat1);
+    for (int s = 0; s < kStatSize; ++s) mean_stat[s] += (1.0 - r1) * stat0[s] + r1 * stat1[s];
+  }
+  mean_stat /= static_cast<double>(positions.size());
+  statistics_.middleCols(kStatSize * i, kStatSize).rowwise() = mean_stat;
+  landmark.count = static_cast<int64_t>(positions.size());
+  landmark.pending_poses.clear();
+  landmark.pending_observations.clear();
+  mStep();
+}
+
+void OnlineEmSlam::mStep() {
+  // Unknowns: (m_x, m_y) of each initialised landmark, then s, then b.
+  std::vector<int> active;
+  for (int i = 0; i < static_cast<int>(landmarks_.size()); ++i)
+    if (landmarks_[i].initialised) active.push_back(i);
+  if (active.empty()) return;
+  const int num = static_cast<int>(active.size());
+  const int p = 2 * num + 2, is = 2 * num, ib = 2 * num + 1;
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(p, p);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(p);
+  const Eigen::VectorXd expected = statistics_.transpose() * weights_.matrix();  // sum_k w^k rho^k
+  for (int a = 0; a < num; ++a) {
+    const Landmark& landmark = landmarks_[active[a]];
+    if (landmark.count > 0) {
+      Eigen::Matrix4d information;
+      Eigen::Vector4d vector;
+      ObservationModel::unpack(expected.data() + kStatSize * active[a], &information, &vector);
+      const double n = static_cast<double>(landmark.count);
+      const int idx[4] = {2 * a, 2 * a + 1, is, ib};
+      for (int r = 0; r < 4; ++r) {
+        g[idx[r]] += n * vector[r];
+        for (int c = 0; c < 4; ++c) h(idx[r], idx[c]) += n * information(r, c);
+      }
+    }
+    if (landmark.has_prior) {
+      h.block<2, 2>(2 * a, 2 * a) += landmark.prior_information;
+      g.segment<2>(2 * a) += landmark.prior_information * landmark.prior_mean_m;
+    }
+  }
+  const double ps = 1.0 / (config_.range_scale_prior_sigma * config_.range_scale_prior_sigma);
+  const double pb = 1.0 / (config_.range_offset_prior_sigma_m * config_.range_offset_prior_sigma_m);
+  h(is, is) += ps;
+  g[is] += ps * 1.0;
+  h(ib, ib) += pb;
+  // Fixed components move to the right-hand side.
+  Eigen::VectorXd fixed_value = Eigen::VectorXd::Zero(p);
+  std::vector<int> free, fixed;
+  for (int k = 0; k < 2 * num; ++k) free.push_back(k);
+  (config_.estimate_range_scale ? free : fixed).push_back(is);
+  (config_.estimate_range_offset ? free : fixed).push_back(ib);
+  fixed_value[is] = range_scale_;
+  fixed_value[ib] = range_offset_m_;
+  Eigen::MatrixXd h_ff = h(free, free);
+  Eigen::VectorXd g_f = g(free);
+  if (!fixed.empty()) g_f -= h(free, fixed) * fixed_value(fixed);
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(h_ff);
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return;
+  const Eigen::VectorXd x = ldlt.solve(g_f);
+  if (!x.allFinite()) return;
+  const Eigen::MatrixXd covariance = ldlt.solve(Eigen::MatrixXd::Identity(h_ff.rows(), h_ff.cols()));
+  for (int a = 0; a < num; ++a) {
+    Landmark& landmark = landmarks_[active[a]];
+    landmark.position_m = x.segment<2>(2 * a);
+    landmark.covariance = covariance.block<2, 2>(2 * a, 2 * a);
+  }
+  int next = 2 * num;
+  if (config_.estimate_range_scale) range_scale_ = x[next++];
+  if (config_.estimate_range_offset) range_offset_m_ = x[next++];
+  setDiagnostic("range_scale", range_scale_);
+  setDiagnostic("range_offset_m", range_offset_m_);
+  setDiagnostic("landmarks_initialised", num);
+  emitMap(currentMap());
+}
+
+Map OnlineEmSlam::currentMap() const {
+  Map map;
+  for (const Landmark& landmark : landmarks_) {
+    if (!landmark.initialised) continue;
+    Beacon b;
+    b.id = landmark.id;
+    b.x_m = landmark.position_m.x();
+    b.y_m = landmark.position_m.y();
+    b.covariance = {landmark.covariance(0, 0), landmark.covariance(0, 1), landmark.covariance(1, 0),
+                    landmark.covariance(1, 1)};
+    map.push_back(b);
+  }
+  std::sort(map.begin(), map.end(), [](const Beacon& a, const Beacon& b) { return a.id < b.id; });
+  return map;
+}
+
+void OnlineEmSlam::publish(int64_t utime) {
+  // Weighted mean and covariance; heading: circular mean, spread about it.
+  const Eigen::ArrayXd& w = weights_;
+  Pose pose;
+  pose.utime = utime;
+  pose.x_m = (w * particles_.x_m).sum();
+  pose.y_m = (w * particles_.y_m).sum();
+  const double heading_rad = std::atan2((w * particles_.heading_rad.sin()).sum(), (w * particles_.heading_rad.cos()).sum());
+  pose.heading_rad = heading_rad;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (int k = 0; k < particles_.size(); ++k) {
+    const Eigen::Vector3d d(particles_.x_m[k] - pose.x_m, particles_.y_m[k] - pose.y_m,
+                            std::remainder(particles_.heading_rad[k] - heading_rad, 2.0 * M_PI));
+    covariance += w[k] * d * d.transpose();
+  }
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) pose.covariance[3 * r + c] = covariance(r, c);
+  path_.push_back(pose);
+  emitPose(pose);
+}
+
+void OnlineEmSlam::finish() {
+  setDiagnostic("ranges_after_last_odometry", static_cast<double>(queued_ranges_.size()));
+  setState(EstimatorState::kFinished);
+}
+
+bool OnlineEmSlam::trajectory(bool force, Path* path) {
+  if (path_.empty() || (!force && state() != EstimatorState::kFinished)) return false;
+  *path = path_;
+  return true;
+}
+
+}  // namespace roam

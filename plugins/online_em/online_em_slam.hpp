@@ -1,0 +1,133 @@
+// Online EM SLAM — Le Corff, Fort & Moulines, "Online Expectation Maximization algorithm to
+// solve the SLAM problem", IEEE SSP 2011.
+//
+// Model. The pose x_t = (p_t, th_t) is a hidden Markov chain driven by odometry (motion_model.hpp);
+// the map theta (landmark positions, plus a range scale s and offset b, see below) is a static
+// parameter. Each observation y_{t,i} of landmark i is h(x_t, theta_i) + delta, delta a
+// two-component Gaussian mixture with latent indicator I_{t,i} (observation_model.hpp).
+// theta is estimated by online EM, the pose distribution by a particle filter.
+//
+// One step t (Algorithm 1):
+//  1. Particle filter: ancestors J^l ~ Multinomial(w_{t-1}); xi_t^l ~ m(. | xi_{t-1}^{J^l}, u_t)
+//     (the prior kernel); I_{t,i}^l ~ Bernoulli(w1) (the prior: the importance ratio is 1);
+//     w_t^l ∝ g_theta^(y_t | xi_t^l, I_t^l). A range stamped between two odometry steps is scored
+//     at the pose interpolated linearly between the particle's ancestor and itself.
+//  2. Stochastic approximation (forward smoothing, Del Moral, Doucet & Singh 2010), per landmark:
+//       rho_{t,i}^k = 1{i in A_t} g_n S_i(xi_t^k, I^k, y) + (1 - 1{i in A_t} g_n) [K rho_{t-1,i}]^k,
+//       K_kl = w_{t-1}^l m(xi_t^k | xi_{t-1}^l) / sum_l' (...)
+//     an N x N row-stochastic matrix applied to all statistics at once (one matrix product);
+//     g_n = c / n^alpha with n the landmark's own observation count (a step that does not observe
+//     the landmark only transports its statistic). S_i is the statistic of the observation
+//     linearised at the current theta^ (Eq. 8).
+//  3. M-step (closed form): E[S_i | y_1:t] ~ sum_k w_t^k rho_{t,i}^k = (A_i, v_i); maximise
+//       sum_i n_i (phi_i^T v_i - 1/2 phi_i^T A_i phi_i) + log prior(theta),  phi_i = (m_i, s, b),
+//     a quadratic in theta solved with one small linear system. Weighting landmark i by n_i makes
+//     its averaged statistic count as n_i observations, so the shared (s, b) see every range and a
+//     prior (surveyed beacons; scale ~ N(1, .), offset ~ N(0, .)) keeps its weight as
+//     pseudo-observations instead of being forgotten by the step sizes.
+//
+// Range scale and offset: UWB ranges are often long by a few % (Plaza 1: 7 %); without (s, b) in
+// theta the map expands to fit them. r = s |m - p| + b is linearised in (m, s, b) like the rest.
+//
+// Initialisation: anchor = start_pose: particles start at the known pose; a landmark is placed by
+// multilateration from its first ranges (scale/offset-corrected) and the particle-mean positions
+// once they are spread enough (range-bearing: at its first observation, m = p + r (cos, sin)(th + b));
+// its statistic starts as the average statistic of those observations.
+// anchor = beacons: BEACONS give every landmark's prior (mean and covariance).
+#pragma once
+
+#include <map>
+#include <random>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "motion_model.hpp"
+#include "observation_model.hpp"
+#include "online_em_config.hpp"
+#include "roam/estimator.hpp"
+
+namespace roam {
+
+class OnlineEmSlam : public Estimator {
+ public:
+  // Throws ConfigError if validate(config) finds a broken constraint.
+  explicit OnlineEmSlam(const OnlineEmConfig& config);
+
+  void setInitialPose(const Pose& start) override;
+  void setBeacons(const Map& surveyed) override;
+  void addOdometry(const Odometry& odometry) override;
+  void addRange(const Range& range) override;
+  void finish() override;
+  bool trajectory(bool force, Path* path) override;
+
+  // The current map (initialised landmarks, by id) and range model.
+  Map currentMap() const;
+  double rangeScale() const { return range_scale_; }
+  double rangeOffset() const { return range_offset_m_; }
+  const Path& filteredPath() const { return path_; }
+  const ParticlePoses& particles() const { return particles_; }
+  const Eigen::ArrayXd& weights() const { return weights_; }
+
+ private:
+  struct Landmark {
+    int id = 0;
+    bool initialised = false;
+    Eigen::Vector2d position_m = Eigen::Vector2d::Zero();
+    Eigen::Matrix2d covariance = Eigen::Matrix2d::Constant(kNaN);
+    int64_t count = 0;  // observations in its statistic (the n of gamma_n)
+    bool has_prior = false;
+    Eigen::Vector2d prior_mean_m = Eigen::Vector2d::Zero();
+    Eigen::Matrix2d prior_information = Eigen::Matrix2d::Zero();
+    // Ranges waiting for multilateration: mean robot pose and the observation.
+    std::vector<Eigen::Vector3d> pending_poses;
+    std::vector<RangeObservation> pending_observations;
+  };
+  // An observation of an initialised landmark at this step, with its interpolation fraction
+  // and the sampled component of each particle.
+  struct StepObservation {
+    int landmark = 0;
+    RangeObservation y;
+    double fraction = 1.0;
+    std::vector<int> component;         // sampled indicators: the component of each particle
+    std::vector<double> wide_probability;  // marginal indicators: P(I = 1 | particle, y)
+  };
+
+  void start(const Pose& pose);
+  int landmarkIndex(int id);
+  Eigen::Vector4d phi(int landmark) const;
+  void interpolate(int k, double fraction, double* x_m, double* y_m, double* heading_rad) const;
+  void resample();
+  void smoothStatistics(std::vector<StepObservation>& observations);
+  void tryInitialise(int landmark);
+  // log of the two-component mixture likelihood, and P(I = 1 | pose, y).
+  double mixtureLogLikelihood(const RangeObservation& y, double x_m, double y_m, double heading_rad,
+                              const Eigen::Vector4d& phi_i, double* wide_probability) const;
+  void mStep();
+  void publish(int64_t utime);
+
+  OnlineEmConfig config_;
+  MotionModel motion_;
+  ObservationModel observation_;
+  std::mt19937_64 rng_;
+
+  bool started_ = false;
+  int64_t last_utime_ = 0;
+  ParticlePoses particles_, previous_, ancestors_;
+  std::vector<int> ancestor_index_;
+  Eigen::ArrayXd weights_, previous_weights_;
+  Eigen::MatrixXd statistics_;  // N x (kStatSize * landmarks): rho, per particle and landmark
+  Eigen::MatrixXd log_kernel_, kernel_, transported_;
+
+  std::vector<Landmark> landmarks_;
+  std::map<int, int> index_of_id_;
+  double range_scale_ = 1.0, range_offset_m_ = 0.0;
+  std::vector<Range> queued_ranges_;
+  int64_t observing_steps_ = 0;
+  Path path_;  // filtered means, one per step (the start pose first)
+  double sum_effective_predecessors_ = 0.0;
+  int64_t smoothing_steps_ = 0;
+  double min_ess_ = kNaN;
+};
+
+}  // namespace roam

@@ -1,0 +1,61 @@
+// Feeds a roam::Dataset to an estimator the way roam-run does: INITIAL_POSE, BEACONS, then
+// ODOMETRY and RANGE merged in time order (a range stamped at an odometry time goes first).
+#pragma once
+
+#include <cmath>
+#include <vector>
+
+#include "dataset.hpp"
+#include "roam/estimator.hpp"
+
+namespace roam {
+namespace online_em_test {
+
+inline void feed(const Dataset& data, Estimator& estimator) {
+  estimator.setInitialPose(data.start);
+  estimator.setBeacons(data.beacons);
+  size_t r = 0;
+  for (const Odometry& odometry : data.odometry) {
+    while (r < data.ranges.size() && data.ranges[r].utime <= odometry.utime) estimator.addRange(data.ranges[r++]);
+    estimator.addOdometry(odometry);
+  }
+  while (r < data.ranges.size()) estimator.addRange(data.ranges[r++]);
+  estimator.finish();
+}
+
+// Mean position error of `path` against `truth`, matched by utime (poses without a match skipped).
+inline double meanError(const Path& path, const Path& truth, double* rmse = nullptr, double* last10 = nullptr) {
+  size_t j = 0;
+  std::vector<double> errors;
+  for (const Pose& p : path) {
+    while (j < truth.size() && truth[j].utime < p.utime) ++j;
+    if (j == truth.size()) break;
+    if (truth[j].utime != p.utime) continue;
+    errors.push_back(std::hypot(p.x_m - truth[j].x_m, p.y_m - truth[j].y_m));
+  }
+  double sum = 0.0, sum2 = 0.0, tail = 0.0;
+  const size_t tail_start = errors.size() - errors.size() / 10;
+  for (size_t k = 0; k < errors.size(); ++k) {
+    sum += errors[k];
+    sum2 += errors[k] * errors[k];
+    if (k >= tail_start) tail += errors[k];
+  }
+  if (rmse) *rmse = std::sqrt(sum2 / errors.size());
+  if (last10) *last10 = tail / static_cast<double>(errors.size() - tail_start);
+  return sum / errors.size();
+}
+
+// Mean distance of the estimated beacons to the true ones (by id; missing ones count as NaN).
+inline double mapError(const Map& estimate, const Map& truth) {
+  double sum = 0.0;
+  for (const Beacon& t : truth) {
+    double e = std::nan("");
+    for (const Beacon& b : estimate)
+      if (b.id == t.id) e = std::hypot(b.x_m - t.x_m, b.y_m - t.y_m);
+    sum += e;
+  }
+  return sum / truth.size();
+}
+
+}  // namespace online_em_test
+}  // namespace roam

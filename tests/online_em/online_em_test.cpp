@@ -1,0 +1,270 @@
+// Tests of the online EM SLAM core (Le Corff, Fort & Moulines 2011) on seeded synthetic runs.
+#include <cmath>
+#include <cstdlib>
+
+#include <gtest/gtest.h>
+
+#include "feed.hpp"
+#include "multilateration.hpp"
+#include "online_em_slam.hpp"
+#include "roam/options.hpp"
+#include "sim.hpp"
+
+namespace roam {
+namespace {
+
+using online_em_test::feed;
+using online_em_test::mapError;
+using online_em_test::meanError;
+
+// Noise-free data: the particles move with ~1e-7 m of proposal noise per step, so the filtered
+// path and the map may differ from the truth only by accumulated rounding and that noise.
+constexpr double kExactPath_m = 1e-4;
+constexpr double kExactMap_m = 1e-4;
+
+// A lawn-mower run over a 30 x 20 m area with 4 beacons around it, Plaza-like rates:
+// 5 Hz odometry at 1 m/s, round-robin ranges at 2 Hz.
+sim::SimConfig plazaLike(int steps, uint64_t seed) {
+  sim::SimConfig c;
+  c.seed = seed;
+  c.num_steps = steps;
+  c.path = sim::PathKind::kLawnMower;
+  c.area_width_m = 30.0;
+  c.area_height_m = 20.0;
+  c.schedule = sim::RangeSchedule::kRoundRobin;
+  c.range_rate_hz = 2.0;
+  c.beacons = {{0, -8.0, -6.0, {}}, {1, 38.0, -5.0, {}}, {2, 36.0, 27.0, {}}, {3, -6.0, 26.0, {}}};
+  return c;
+}
+
+// Plaza-like noise: 2 % odometry distance, 0.005 rad heading per step, 0.5 m ranges that are
+// 5 % long (the scale the estimator must learn).
+sim::SimConfig noisyPlazaLike(int steps, uint64_t seed) {
+  sim::SimConfig c = plazaLike(steps, seed);
+  c.odo_distance_sigma_rel = 0.02;
+  c.odo_heading_sigma_rad = 0.005;
+  c.range_sigma_m = 0.5;
+  c.range_scale = 1.05;
+  return c;
+}
+
+OnlineEmConfig noiseFreeConfig(const std::string& anchor) {
+  OnlineEmConfig c;
+  c.anchor = anchor;
+  c.odo_distance_sigma_rel = 0.0;
+  c.odo_distance_sigma_m = 1e-7;
+  c.odo_heading_sigma_rad = 1e-8;
+  return c;
+}
+
+double maxPathError(const Path& path, const Path& truth) {
+  double worst = 0.0;
+  EXPECT_EQ(path.size(), truth.size());
+  for (size_t k = 0; k < std::min(path.size(), truth.size()); ++k)
+    worst = std::max(worst, std::hypot(path[k].x_m - truth[k].x_m, path[k].y_m - truth[k].y_m));
+  return worst;
+}
+
+TEST(OnlineEmNoiseFree, ExactMapStaysFixedAndPathIsExact) {
+  const Dataset data = sim::simulate(plazaLike(600, 3));
+  OnlineEmSlam slam(noiseFreeConfig("beacons"));
+  feed(data, slam);
+  // Every range is h(x_true, m_true): linearised at the true map, z = J m^ and the M-step
+  // returns m^, scale 1, offset 0 (up to the 1e-7 m proposal noise).
+  EXPECT_LT(maxPathError(slam.filteredPath(), data.ground_truth), kExactPath_m);
+  const Map map = slam.currentMap();
+  ASSERT_EQ(map.size(), 4u);
+  for (size_t i = 0; i < map.size(); ++i) {
+    EXPECT_NEAR(map[i].x_m, data.beacons[i].x_m, kExactMap_m);
+    EXPECT_NEAR(map[i].y_m, data.beacons[i].y_m, kExactMap_m);
+  }
+  EXPECT_NEAR(slam.rangeScale(), 1.0, 1e-6);
+  EXPECT_NEAR(slam.rangeOffset(), 0.0, 1e-4);
+  EXPECT_EQ(slam.rangesAccepted(), static_cast<int64_t>(data.ranges.size()));
+}
+
+TEST(OnlineEmNoiseFree, StartPoseMultilaterationRecoversTheMap) {
+  const Dataset data = sim::simulate(plazaLike(600, 3));
+  OnlineEmSlam slam(noiseFreeConfig("start_pose"));
+  feed(data, slam);
+  // Multilateration from exact positions and ranges is exact (Gauss-Newton to 1e-9), and the
+  // EM then stays at the exact map as above.
+  EXPECT_LT(maxPathError(slam.filteredPath(), data.ground_truth), kExactPath_m);
+  EXPECT_LT(mapError(slam.currentMap(), data.beacons), kExactMap_m);
+}
+
+TEST(OnlineEmNoiseFree, RangesBetweenOdometryStepsUseTheInterpolatedPose) {
+  // A 1 m/s path (0.2 m steps) with a quarter turn; ranges stamped mid-step are computed from
+  // the true position interpolated at their time. Scored at the step's end pose instead, they
+  // would be up to 0.1 m off and the map would not be exact.
+  Dataset data;
+  data.start.utime = 0;
+  data.beacons = {{0, 5.0, 8.0, {}}, {1, 12.0, -4.0, {}}, {2, -3.0, -6.0, {}}};
+  Pose p = data.start;
+  data.ground_truth.push_back(p);
+  for (int k = 0; k < 300; ++k) {
+    Odometry o;
+    o.utime = (k + 1) * 200000;
+    o.delta_distance_m = 0.2;
+    o.delta_heading_rad = (k / 50) % 2 == 1 ? M_PI / 100.0 : 0.0;
+    Pose next = p;
+    next.utime = o.utime;
+    next.x_m += 0.2 * std::cos(p.heading_rad);
+    next.y_m += 0.2 * std::sin(p.heading_rad);
+    next.heading_rad += o.delta_heading_rad;
+    const Beacon& b = data.beacons[k % 3];
+    Range r;
+    r.utime = p.utime + 70000;  // 35 % into the step
+    r.beacon_id = b.id;
+    r.range_m = std::hypot(b.x_m - (p.x_m + 0.35 * (next.x_m - p.x_m)), b.y_m - (p.y_m + 0.35 * (next.y_m - p.y_m)));
+    data.ranges.push_back(r);
+    data.odometry.push_back(o);
+    data.ground_truth.push_back(next);
+    p = next;
+  }
+  OnlineEmSlam slam(noiseFreeConfig("start_pose"));
+  feed(data, slam);
+  EXPECT_LT(maxPathError(slam.filteredPath(), data.ground_truth), kExactPath_m);
+  EXPECT_LT(mapError(slam.currentMap(), data.beacons), kExactMap_m);
+}
+
+// Runs the first `steps` odometry steps of `data` (with their ranges); returns the map error.
+double mapErrorAfter(const Dataset& data, OnlineEmSlam& slam, size_t* next_odometry, size_t* next_range,
+                     size_t steps) {
+  for (; *next_odometry < std::min(steps, data.odometry.size()); ++*next_odometry) {
+    const Odometry& o = data.odometry[*next_odometry];
+    while (*next_range < data.ranges.size() && data.ranges[*next_range].utime <= o.utime)
+      slam.addRange(data.ranges[(*next_range)++]);
+    slam.addOdometry(o);
+  }
+  return mapError(slam.currentMap(), data.beacons);
+}
+
+TEST(OnlineEmNoisy, MapErrorFallsAndScaleIsLearned) {
+  const Dataset data = sim::simulate(noisyPlazaLike(2500, 11));
+  OnlineEmConfig config;  // defaults: anchor = start_pose, 100 particles
+  OnlineEmSlam slam(config);
+  slam.setInitialPose(data.start);
+  size_t o = 0, r = 0;
+  const double early_m = mapErrorAfter(data, slam, &o, &r, 500);
+  const double late_m = mapErrorAfter(data, slam, &o, &r, data.odometry.size());
+  slam.finish();
+  std::printf("map error after 500 steps %.3f m, after %zu steps %.3f m; path mean %.3f m; scale %.4f\n",
+              early_m, data.odometry.size(), late_m, meanError(slam.filteredPath(), data.ground_truth),
+              slam.rangeScale());
+  // Measured (seed 11): 0.57 m after 500 steps, 0.52 m at the end, path mean 0.54 m, scale
+  // 1.049; bounds with ~50 % margin.
+  EXPECT_LT(late_m, early_m);
+  EXPECT_LT(late_m, 0.8);
+  EXPECT_NEAR(slam.rangeScale(), 1.05, 0.01);
+  EXPECT_LT(meanError(slam.filteredPath(), data.ground_truth), 0.8);
+}
+
+TEST(OnlineEmNoisy, SurveyedBeaconsGiveSubMetrePath) {
+  const Dataset data = sim::simulate(noisyPlazaLike(2000, 5));
+  OnlineEmConfig config;
+  config.anchor = "beacons";
+  OnlineEmSlam slam(config);
+  feed(data, slam);
+  const double mean_m = meanError(slam.filteredPath(), data.ground_truth);
+  std::printf("beacons: path mean %.3f m, map %.3f m, scale %.4f\n", mean_m,
+              mapError(slam.currentMap(), data.beacons), slam.rangeScale());
+  // Measured (seed 5): path mean 0.48 m, map 0.29 m, scale 1.053.
+  EXPECT_LT(mean_m, 0.7);
+  EXPECT_LT(mapError(slam.currentMap(), data.beacons), 0.5);
+  EXPECT_NEAR(slam.rangeScale(), 1.05, 0.01);
+}
+
+TEST(OnlineEmNoisy, RangeBearingWithMixtureNoise) {
+  sim::SimConfig s = plazaLike(1500, 21);
+  s.odo_distance_sigma_rel = 0.02;
+  s.odo_heading_sigma_rad = 0.005;
+  s.bearing = true;
+  s.bearing_sigma_rad = M_PI / 60.0;
+  s.range_sigma_m = 0.5;  // the paper's mixture: 80 % sigma 0.5 m, 20 % 2.5 m
+  s.mixture_weight1 = 0.2;
+  s.range_sigma1_m = 2.5;
+  const Dataset data = sim::simulate(s);
+  OnlineEmConfig config;
+  config.range_bearing_cov = 0.0;  // the simulator draws range and bearing independently
+  OnlineEmSlam slam(config);
+  feed(data, slam);
+  const double mean_m = meanError(slam.filteredPath(), data.ground_truth);
+  std::printf("range-bearing: path mean %.3f m, map %.3f m\n", mean_m, mapError(slam.currentMap(), data.beacons));
+  // Measured (seed 21): path mean 0.31 m, map 0.42 m.
+  EXPECT_LT(mean_m, 0.6);
+  EXPECT_LT(mapError(slam.currentMap(), data.beacons), 0.8);
+}
+
+TEST(OnlineEmDeterminism, SameInputSameOutput) {
+  const Dataset data = sim::simulate(noisyPlazaLike(400, 2));
+  OnlineEmSlam a{OnlineEmConfig{}}, b{OnlineEmConfig{}};
+  feed(data, a);
+  feed(data, b);
+  ASSERT_EQ(a.filteredPath().size(), b.filteredPath().size());
+  for (size_t k = 0; k < a.filteredPath().size(); ++k) {
+    EXPECT_EQ(a.filteredPath()[k].x_m, b.filteredPath()[k].x_m);
+    EXPECT_EQ(a.filteredPath()[k].y_m, b.filteredPath()[k].y_m);
+    EXPECT_EQ(a.filteredPath()[k].heading_rad, b.filteredPath()[k].heading_rad);
+  }
+  const Map ma = a.currentMap(), mb = b.currentMap();
+  ASSERT_EQ(ma.size(), mb.size());
+  for (size_t i = 0; i < ma.size(); ++i) EXPECT_EQ(ma[i].x_m, mb[i].x_m);
+  // Another seed draws other particles.
+  OnlineEmConfig other;
+  other.seed = 2;
+  OnlineEmSlam c(other);
+  feed(data, c);
+  EXPECT_NE(a.filteredPath().back().x_m, c.filteredPath().back().x_m);
+}
+
+TEST(OnlineEmConfig, BadValuesNameTheKey) {
+  auto parse = [](KeyValues values) {
+    OnlineEmConfig config;
+    Options options(std::move(values));
+    addOnlineEmOptions(options, &config);
+    options.parse();
+    return config;
+  };
+  try {
+    parse({{"num_particles", "1"}});
+    FAIL() << "num_particles = 1 accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), "num_particles");
+  }
+  try {
+    parse({{"step_alpha", "0.5"}});  // alpha must be in (1/2, 1]
+    FAIL() << "step_alpha = 0.5 accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), "step_alpha");
+  }
+  try {
+    parse({{"num_particle", "10"}});
+    FAIL() << "unknown key accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("num_particles"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(parse({{"anchor", "gps"}}), ConfigError);
+  OnlineEmConfig bad;
+  bad.range_bearing_cov = 1.0;  // |rho| >= sr * sb: R is not positive definite
+  EXPECT_THROW(OnlineEmSlam{bad}, ConfigError);
+  EXPECT_EQ(parse({{"num_particles", "50"}}).num_particles, 50);
+}
+
+TEST(Multilateration, ExactFromNoiseFreeRangesAndRefusedOnALine) {
+  const Eigen::Vector2d beacon(7.0, -3.0);
+  std::vector<Eigen::Vector2d> positions{{0, 0}, {4, 0}, {4, 4}, {0, 4}, {2, 6}};
+  std::vector<double> ranges;
+  for (const auto& p : positions) ranges.push_back((beacon - p).norm());
+  const auto found = multilaterate(positions, ranges, 1.0);
+  ASSERT_TRUE(found.has_value());
+  EXPECT_NEAR((*found - beacon).norm(), 0.0, 1e-9);
+  // On the line y = 0 the mirror image (7, 3) fits as well: refused.
+  std::vector<Eigen::Vector2d> line{{0, 0}, {2, 0}, {4, 0}, {6, 0}};
+  std::vector<double> line_ranges;
+  for (const auto& p : line) line_ranges.push_back((beacon - p).norm());
+  EXPECT_FALSE(multilaterate(line, line_ranges, 1.0).has_value());
+}
+
+}  // namespace
+}  // namespace roam
