@@ -1,0 +1,35 @@
+// ABI shim: the spectral SLAM core as plugin "spectral".
+#include <string>
+
+#include "roam/plugin_shim.hpp"
+#include "spectral_slam.hpp"
+
+namespace {
+
+std::unique_ptr<roam::Estimator> makeSpectral(roam::Options& options) {
+  roam::SpectralConfig config;
+  std::string anchor = "beacons", mode = "batch";
+  options.add("anchor", &anchor, "frame anchor: surveyed beacons or the start pose")
+      .oneOf({"beacons", "start_pose"});
+  options.add("rank", &config.rank, "4: positions; 7: positions and headings").oneOf({4, 7});
+  options.add("mode", &mode, "batch (all at the end) or online (incremental SVD)").oneOf({"batch", "online"});
+  options.add("window_s", &config.window_s, "interpolation window length (s); online latency")
+      .min(0.0, false);
+  options.add("window_overlap", &config.window_overlap, "fraction of a window shared with the next")
+      .min(0.0).max(1.0, false);
+  options.add("min_ranges_per_window", &config.min_ranges_per_window,
+              "fewest ranges to a beacon for a window to model it").min(4);
+  options.add("interpolation_rcond", &config.interpolation_rcond,
+              "relative singular-value cut-off of a window's regression").min(0.0).max(1.0, false);
+  options.add("align_m", &config.align_m, "start_pose: metres of travel the path is aligned on")
+      .min(0.0, false);
+  options.add("max_step_m", &config.max_step_m, "odometry steps longer than this are rejected").min(0.0, false);
+  options.parse();
+  config.anchor = roam::parseSpectralAnchor(anchor);
+  config.mode = roam::parseSpectralMode(mode);
+  return std::make_unique<roam::SpectralSlam>(config);
+}
+
+}  // namespace
+
+ROAM_DEFINE_PLUGIN("spectral", "Boots & Gordon 2013 spectral range-only SLAM", makeSpectral)

@@ -1,0 +1,126 @@
+#include "range_interpolation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+namespace roam {
+
+RangeInterpolator::RangeInterpolator(int num_beacons, const InterpolationConfig& config,
+                                     int64_t origin_utime)
+    : num_beacons_(num_beacons),
+      config_(config),
+      origin_utime_(origin_utime),
+      window_us_(static_cast<int64_t>(std::llround(config.window_s * 1e6))),
+      stride_us_(std::max<int64_t>(
+          1, static_cast<int64_t>(std::llround(config.window_s * (1.0 - config.window_overlap) * 1e6)))),
+      sum_half_sq_(num_beacons),
+      sum_rate_(num_beacons),
+      count_(num_beacons) {}
+
+int64_t RangeInterpolator::windowBegin(int window) const {
+  return origin_utime_ + static_cast<int64_t>(window) * stride_us_;
+}
+
+int64_t RangeInterpolator::windowEnd(int window) const { return windowBegin(window) + window_us_; }
+
+int RangeInterpolator::windowsToCover(int64_t last_utime) const {
+  if (last_utime <= origin_utime_) return 1;
+  // The last window needed is the first whose end reaches last_utime.
+  const int64_t beyond = last_utime - origin_utime_ - window_us_;
+  if (beyond <= 0) return 1;
+  return static_cast<int>((beyond + stride_us_ - 1) / stride_us_) + 1;
+}
+
+void RangeInterpolator::grow(int poses) {
+  for (int n = 0; n < num_beacons_; ++n) {
+    if (static_cast<int>(count_[n].size()) >= poses) continue;
+    sum_half_sq_[n].resize(poses, 0.0);
+    sum_rate_[n].resize(poses, 0.0);
+    count_[n].resize(poses, 0);
+  }
+}
+
+void RangeInterpolator::addWindow(int window, const OdometryPath& path,
+                                  const std::vector<RangeSample>& ranges) {
+  const int64_t begin_us = windowBegin(window), end_us = windowEnd(window);
+  const int first_pose = path.lowerBound(begin_us);
+  int end_pose = path.lowerBound(end_us);
+  if (end_pose < path.size() && path.utime[end_pose] == end_us) ++end_pose;
+  if (end_pose - first_pose < 2) return;
+  grow(path.size());
+
+  // Centre and scale of the window's dead-reckoned poses: features of order one.
+  double cx_m = 0.0, cy_m = 0.0;
+  for (int k = first_pose; k < end_pose; ++k) {
+    cx_m += path.x_m[k];
+    cy_m += path.y_m[k];
+  }
+  const double poses = end_pose - first_pose;
+  cx_m /= poses;
+  cy_m /= poses;
+  double radius_sq = 0.0;
+  for (int k = first_pose; k < end_pose; ++k)
+    radius_sq += std::pow(path.x_m[k] - cx_m, 2) + std::pow(path.y_m[k] - cy_m, 2);
+  const double scale_m = std::max(std::sqrt(radius_sq / poses), 1e-3);
+  auto features = [&](double x_m, double y_m) {
+    const double u = (x_m - cx_m) / scale_m, v = (y_m - cy_m) / scale_m;
+    return Eigen::Vector4d(1.0, -u, -v, 0.5 * (u * u + v * v));
+  };
+
+  const auto by_time = [](const RangeSample& r, int64_t t) { return r.utime < t; };
+  const auto lo = std::lower_bound(ranges.begin(), ranges.end(), begin_us, by_time);
+  const auto hi = std::lower_bound(ranges.begin(), ranges.end(), end_us + 1, by_time);
+
+  for (int n = 0; n < num_beacons_; ++n) {
+    std::vector<Eigen::Vector4d> rows;
+    std::vector<double> targets;
+    int64_t first_us = 0, last_us = 0;
+    for (auto it = lo; it != hi; ++it) {
+      if (it->beacon != n) continue;
+      double x_m, y_m;
+      if (!path.positionAt(it->utime, &x_m, &y_m)) continue;
+      if (rows.empty()) first_us = it->utime;
+      last_us = it->utime;
+      rows.push_back(features(x_m, y_m));
+      targets.push_back(0.5 * it->range_m * it->range_m);
+    }
+    if (static_cast<int>(rows.size()) < config_.min_ranges_per_window) continue;
+    Eigen::MatrixX4d design(rows.size(), 4);
+    Eigen::VectorXd target(rows.size());
+    for (size_t i = 0; i < rows.size(); ++i) {
+      design.row(i) = rows[i].transpose();
+      target(i) = targets[i];
+    }
+    Eigen::JacobiSVD<Eigen::MatrixX4d> svd(design, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    svd.setThreshold(config_.rcond);
+    const Eigen::Vector4d theta = svd.solve(target);
+
+    for (int k = path.lowerBound(first_us); k < end_pose && path.utime[k] <= last_us; ++k) {
+      const double u = (path.x_m[k] - cx_m) / scale_m, v = (path.y_m[k] - cy_m) / scale_m;
+      const double half_sq = theta.dot(features(path.x_m[k], path.y_m[k]));
+      // d/dp of theta . phi(p): (1/scale) * (-theta1 + theta3 u, -theta2 + theta3 v).
+      const double gx = (-theta(1) + theta(3) * u) / scale_m;
+      const double gy = (-theta(2) + theta(3) * v) / scale_m;
+      const double rate = gx * std::cos(path.heading_rad[k]) + gy * std::sin(path.heading_rad[k]);
+      sum_half_sq_[n][k] += half_sq;
+      sum_rate_[n][k] += rate;
+      ++count_[n][k];
+    }
+  }
+}
+
+bool RangeInterpolator::halfSquaredRange(int beacon, int pose, double* value) const {
+  if (pose >= static_cast<int>(count_[beacon].size()) || count_[beacon][pose] == 0) return false;
+  *value = sum_half_sq_[beacon][pose] / count_[beacon][pose];
+  return true;
+}
+
+bool RangeInterpolator::rangeRate(int beacon, int pose, double* value) const {
+  if (pose >= static_cast<int>(count_[beacon].size()) || count_[beacon][pose] == 0) return false;
+  *value = sum_rate_[beacon][pose] / count_[beacon][pose];
+  return true;
+}
+
+}  // namespace roam

@@ -1,0 +1,56 @@
+// Configuration of the spectral range-only SLAM core (Boots & Gordon, ICML 2013).
+//
+// Every default is argued from the sensors and the maths (see README/report), never searched
+// on a benchmark run. validate() throws std::invalid_argument naming the broken constraint.
+#pragma once
+
+#include <string>
+
+namespace roam {
+
+enum class SpectralAnchor {
+  kBeacons,   // least squares to >= 4 surveyed beacons (BEACONS) fixes the frame
+  kStartPose  // no surveyed beacons: structure of X, then the start pose and early odometry
+};
+
+enum class SpectralMode {
+  kBatch,  // everything at finish()
+  kOnline  // Brand's incremental SVD; a pose per step, window_s behind the input
+};
+
+struct SpectralConfig {
+  // beacons: the paper's Plaza setting (regression onto surveyed beacons) and the most accurate.
+  SpectralAnchor anchor = SpectralAnchor::kBeacons;
+  // 4: positions only (Eq. 4-7); 7: positions and headings (Eq. 8-11).
+  int rank = 7;
+  SpectralMode mode = SpectralMode::kBatch;
+
+  // Interpolation (Sec. 3.4). A window must hold >= 3 ranges per regression parameter (4) for
+  // every beacon: UWB round-robin at ~2 Hz over 4 beacons gives ~0.5 Hz per beacon, so 30 s
+  // hold ~15; at walking speed that is ~30 m of travel, over which dead reckoning (1-2 % of
+  // distance) stays at decimetres. Half-overlapping windows: every pose is averaged over two fits.
+  double window_s = 30.0;
+  double window_overlap = 0.5;  // fraction of a window shared with the next, in [0, 1)
+  // Fewest ranges to one beacon for a window to fit that beacon's model (2 per parameter).
+  int min_ranges_per_window = 8;
+  // Relative singular-value cut-off of a window's regression (features centred and scaled to
+  // unit RMS radius): drops the direction a near-straight stretch does not determine.
+  double interpolation_rcond = 1e-3;
+
+  // anchor = start_pose: distance travelled from the start over which the learned path is rotated
+  // and translated onto dead reckoning from the start pose (scale and reflection come from the
+  // whole path). With learned positions good to ~0.5 m, a 50 m stretch fixes the rotation to
+  // ~0.01 rad, while odometry (1-2 % of distance) has drifted by well under a metre.
+  double align_m = 50.0;
+
+  // Odometry steps longer than this are rejected as jumps (same meaning as deadreckoning).
+  double max_step_m = 10.0;
+
+  // Throws std::invalid_argument naming the field and what was expected.
+  void validate() const;
+};
+
+SpectralAnchor parseSpectralAnchor(const std::string& text);  // beacons | start_pose
+SpectralMode parseSpectralMode(const std::string& text);      // batch | online
+
+}  // namespace roam

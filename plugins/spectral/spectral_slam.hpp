@@ -1,0 +1,68 @@
+// Spectral range-only SLAM (Boots & Gordon, "A Spectral Learning Approach to Range-Only SLAM",
+// ICML 2013) as a roam::Estimator.
+//
+// Model: the half squared range from pose t to beacon n factors as
+//   d_nt^2 / 2 = C_n . X_t,  C_n = [|m_n|^2/2, m_nx, m_ny, 1],  X_t = [1, -x_t, -y_t, |p_t|^2/2]
+// (rank 4, Eq. 4-7), and with the range rate along the direction of travel u_t = (cos, sin)
+//   (p_t - m_n) . u_t = [m_nx, m_ny, 1] . [-cos(theta_t), -sin(theta_t), p_t . u_t]
+// (rank 7, Eq. 8-11, zero-step limit). Sparse ranges are interpolated in windows of dead
+// reckoning (range_interpolation.hpp), Y is factored by a thin SVD (thin_svd.hpp), and the
+// factors are upgraded to metric coordinates (metric_upgrade.hpp): see spectral_solver.hpp.
+//
+// Inputs: INITIAL_POSE (pose 0; the origin at the first odometry time if none), BEACONS (used by
+// anchor = beacons), then odometry and ranges in time order. A range is placed on the
+// dead-reckoned path at its own time (linear between poses). Poses: one per odometry step plus the
+// start pose. mode = batch: every pose at finish(). mode = online: the path is solved by an
+// incremental SVD (Brand 2006, incremental_svd.hpp) each time an interpolation window closes and
+// the poses that no later window can change are emitted, so a pose comes out at most
+// window_s (+ one stride) after its odometry; at finish() the batch solution is the trajectory.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+
+#include "range_interpolation.hpp"
+#include "roam/estimator.hpp"
+#include "spectral_config.hpp"
+#include "spectral_solver.hpp"
+
+namespace roam {
+
+class OnlineSpectral;
+
+class SpectralSlam : public Estimator {
+ public:
+  // Throws std::invalid_argument if the config is invalid.
+  explicit SpectralSlam(const SpectralConfig& config);
+  ~SpectralSlam() override;
+
+  void setInitialPose(const Pose& start) override;
+  void setBeacons(const Map& surveyed) override;
+  void addOdometry(const Odometry& odometry) override;
+  void addRange(const Range& range) override;
+  // Runs the batch solve; throws std::runtime_error if the data cannot be solved.
+  void finish() override;
+  bool trajectory(bool force, Path* path) override;
+
+  const SpectralConfig& config() const { return config_; }
+  // The batch solution (after finish()).
+  const std::optional<SpectralSolution>& solution() const { return solution_; }
+  // The problem as collected so far (dead-reckoned path, ranges, beacons).
+  const SpectralProblem& problem() const { return problem_; }
+  // mode = online: the incremental solver (nullptr in batch mode).
+  const OnlineSpectral* online() const { return online_.get(); }
+
+ private:
+  int beaconRow(int id);
+  void startPath(const Pose& start);
+
+  SpectralConfig config_;
+  SpectralProblem problem_;
+  Map surveyed_;
+  bool have_start_ = false;
+  std::optional<SpectralSolution> solution_;
+  std::unique_ptr<OnlineSpectral> online_;
+};
+
+}  // namespace roam

@@ -1,0 +1,222 @@
+#include "spectral_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "thin_svd.hpp"
+
+namespace roam {
+namespace {
+
+Eigen::Matrix2d rotation(double angle_rad) {
+  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
+  Eigen::Matrix2d r;
+  r << c, -s, s, c;
+  return r;
+}
+
+// Rank 4: heading offset of each solved pose from a rotation fit of the learned path onto dead
+// reckoning over +-half_window_us (centred point sets; closed form in 2-D). O(T) with prefix sums.
+Eigen::VectorXd headingOffsetsFromLocalFit(const OdometryPath& path, const std::vector<int>& poses,
+                                           const Eigen::Matrix2Xd& xy_m, int64_t half_window_us) {
+  const int C = static_cast<int>(poses.size());
+  // Prefix sums of a (dead reckoning), b (learned), a x b, a . b.
+  std::vector<Eigen::Matrix<double, 6, 1>> prefix(C + 1, Eigen::Matrix<double, 6, 1>::Zero());
+  const double ox = path.x_m[poses[0]], oy = path.y_m[poses[0]];
+  const double bx0 = xy_m(0, 0), by0 = xy_m(1, 0);
+  for (int j = 0; j < C; ++j) {
+    const double ax = path.x_m[poses[j]] - ox, ay = path.y_m[poses[j]] - oy;
+    const double bx = xy_m(0, j) - bx0, by = xy_m(1, j) - by0;
+    Eigen::Matrix<double, 6, 1> term;
+    term << ax, ay, bx, by, ax * by - ay * bx, ax * bx + ay * by;
+    prefix[j + 1] = prefix[j] + term;
+  }
+  Eigen::VectorXd offset(C);
+  int lo = 0, hi = 0;
+  for (int j = 0; j < C; ++j) {
+    const int64_t t = path.utime[poses[j]];
+    while (path.utime[poses[lo]] < t - half_window_us) ++lo;
+    while (hi < C && path.utime[poses[hi]] <= t + half_window_us) ++hi;
+    const Eigen::Matrix<double, 6, 1> s = prefix[hi] - prefix[lo];
+    const double n = hi - lo;
+    const double cross = s(4) - (s(0) * s(3) - s(1) * s(2)) / n;
+    const double dot = s(5) - (s(0) * s(2) + s(1) * s(3)) / n;
+    offset(j) = (cross == 0.0 && dot == 0.0) ? 0.0 : std::atan2(cross, dot);
+  }
+  return offset;
+}
+
+}  // namespace
+
+InterpolationConfig interpolationConfig(const SpectralConfig& config) {
+  InterpolationConfig out;
+  out.window_s = config.window_s;
+  out.window_overlap = config.window_overlap;
+  out.min_ranges_per_window = config.min_ranges_per_window;
+  out.rcond = config.interpolation_rcond;
+  return out;
+}
+
+MeasurementMatrix measurementMatrix(const RangeInterpolator& interpolator, int rank, int first_pose,
+                                    int end_pose) {
+  const int N = interpolator.numBeacons();
+  const int rows = rank == 7 ? 2 * N : N;
+  MeasurementMatrix out;
+  std::vector<double> column(rows);
+  std::vector<double> values;
+  for (int k = first_pose; k < end_pose; ++k) {
+    bool complete = true;
+    for (int n = 0; n < N && complete; ++n) {
+      complete = interpolator.halfSquaredRange(n, k, &column[n]);
+      if (complete && rank == 7) complete = interpolator.rangeRate(n, k, &column[N + n]);
+    }
+    if (!complete) continue;
+    out.poses.push_back(k);
+    values.insert(values.end(), column.begin(), column.end());
+  }
+  out.Y = Eigen::Map<Eigen::MatrixXd>(values.data(), rows, static_cast<Eigen::Index>(out.poses.size()));
+  return out;
+}
+
+UpgradedStates upgradeStates(const Eigen::MatrixXd& Yhat, const std::vector<int>& poses,
+                             const SpectralProblem& problem, const SpectralConfig& config) {
+  const int N = static_cast<int>(problem.beacon_ids.size());
+  const Eigen::MatrixXd half_sq = Yhat.topRows(N);
+  UpgradedStates out;
+  if (config.anchor == SpectralAnchor::kBeacons) {
+    const BeaconUpgrade upgrade = upgradeWithBeacons(half_sq, problem.surveyed);
+    out.xy_m = upgrade.xy_m;
+    out.state_scale = upgrade.state_scale;
+  } else {
+    const Eigen::Matrix2Xd shape = pathUpToSimilarity(half_sq);
+    Eigen::Matrix2Xd dead_reckoned(2, poses.size());
+    std::vector<int64_t> utime(poses.size());
+    std::vector<double> travelled_m(poses.size());
+    double distance_m = 0.0;
+    int next_step = 0;
+    for (size_t j = 0; j < poses.size(); ++j) {
+      for (; next_step < poses[j]; ++next_step) distance_m += problem.path.step_m[next_step];
+      travelled_m[j] = distance_m;
+      dead_reckoned.col(j) << problem.path.x_m[poses[j]], problem.path.y_m[poses[j]];
+      utime[j] = problem.path.utime[poses[j]];
+    }
+    const Similarity similarity =
+        alignToDeadReckoning(shape, dead_reckoned, utime, travelled_m, config.window_s, config.align_m);
+    out.xy_m = similarity.apply(shape);
+  }
+  out.beacons_m = learnBeacons(half_sq, out.xy_m);
+  if (config.rank == 7) {
+    Eigen::Matrix2Xd heading_beacons = out.beacons_m;
+    if (config.anchor == SpectralAnchor::kBeacons)
+      for (int n = 0; n < N; ++n)
+        if (problem.surveyed[n]) heading_beacons.col(n) = *problem.surveyed[n];
+    out.heading_rad = headingsFromRangeRates(Yhat.bottomRows(N), heading_beacons);
+  }
+  return out;
+}
+
+Path assembleTrajectory(const OdometryPath& path, const std::vector<int>& poses,
+                        const UpgradedStates& states, double heading_window_s) {
+  const int T = path.size(), C = static_cast<int>(poses.size());
+  if (C == 0) throw std::runtime_error("no solved poses");
+  // Heading offset (learned - dead reckoned) at each solved pose.
+  Eigen::VectorXd offset(C);
+  if (states.heading_rad.size() == C) {
+    for (int j = 0; j < C; ++j) offset(j) = wrapAngle(states.heading_rad(j) - path.heading_rad[poses[j]]);
+  } else {
+    offset = headingOffsetsFromLocalFit(path, poses, states.xy_m,
+                                        static_cast<int64_t>(std::llround(0.5 * heading_window_s * 1e6)));
+  }
+  Path out(T);
+  std::vector<bool> solved(T, false);
+  for (int j = 0; j < C; ++j) {
+    Pose& pose = out[poses[j]];
+    pose.x_m = states.xy_m(0, j);
+    pose.y_m = states.xy_m(1, j);
+    pose.heading_rad = path.heading_rad[poses[j]] + offset(j);
+    solved[poses[j]] = true;
+  }
+  // Bridge each run of unsolved poses [first, last] by dead reckoning from its neighbours.
+  auto deadReckonFrom = [&](int anchor, double anchor_offset, int k) {
+    const Eigen::Vector2d step(path.x_m[k] - path.x_m[anchor], path.y_m[k] - path.y_m[anchor]);
+    return Eigen::Vector2d(Eigen::Vector2d(out[anchor].x_m, out[anchor].y_m) + rotation(anchor_offset) * step);
+  };
+  std::vector<double> distance_m(T, 0.0);
+  for (int k = 1; k < T; ++k) distance_m[k] = distance_m[k - 1] + path.step_m[k - 1];
+  int j = 0;  // index into poses of the next solved pose
+  for (int k = 0; k < T;) {
+    if (solved[k]) {
+      ++k;
+      ++j;
+      continue;
+    }
+    int end = k;
+    while (end < T && !solved[end]) ++end;
+    const int before = k - 1, after = end;  // solved neighbours (may be out of range)
+    const double before_offset = before >= 0 ? offset(j - 1) : 0.0;
+    const double after_offset = after < T ? offset(j) : 0.0;
+    Eigen::Vector2d mismatch = Eigen::Vector2d::Zero();
+    if (before >= 0 && after < T)
+      mismatch = Eigen::Vector2d(out[after].x_m, out[after].y_m) - deadReckonFrom(before, before_offset, after);
+    const double span_m = after < T && before >= 0 ? distance_m[after] - distance_m[before] : 0.0;
+    for (int i = k; i < end; ++i) {
+      Eigen::Vector2d xy;
+      double heading_offset;
+      if (before < 0) {
+        xy = deadReckonFrom(after, after_offset, i);
+        heading_offset = after_offset;
+      } else if (after >= T) {
+        xy = deadReckonFrom(before, before_offset, i);
+        heading_offset = before_offset;
+      } else {
+        const double f = span_m > 0.0 ? (distance_m[i] - distance_m[before]) / span_m
+                                      : static_cast<double>(i - before) / (after - before);
+        xy = deadReckonFrom(before, before_offset, i) + f * mismatch;
+        heading_offset = before_offset + f * wrapAngle(after_offset - before_offset);
+      }
+      out[i].x_m = xy.x();
+      out[i].y_m = xy.y();
+      out[i].heading_rad = path.heading_rad[i] + heading_offset;
+    }
+    k = end;
+  }
+  for (int k = 0; k < T; ++k) {
+    out[k].utime = path.utime[k];
+    out[k].heading_rad = wrapAngle(out[k].heading_rad);
+  }
+  return out;
+}
+
+SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config) {
+  const int N = static_cast<int>(problem.beacon_ids.size());
+  const int T = problem.path.size();
+  if (T < 2) throw std::runtime_error("spectral: no odometry");
+  if (N < 4) throw std::runtime_error("spectral: needs ranges to >= 4 beacons, got " + std::to_string(N));
+  RangeInterpolator interpolator(N, interpolationConfig(config), problem.path.utime.front());
+  const int windows = interpolator.windowsToCover(problem.path.utime.back());
+  for (int w = 0; w < windows; ++w) interpolator.addWindow(w, problem.path, problem.ranges);
+  const MeasurementMatrix measurements = measurementMatrix(interpolator, config.rank, 0, T);
+  const int C = static_cast<int>(measurements.poses.size());
+  if (C < 10)
+    throw std::runtime_error("spectral: only " + std::to_string(C) +
+                             " poses have interpolated ranges to every beacon (need >= 10)");
+  const LeftSvd svd = topLeftSvd(measurements.Y, config.rank);
+  const Eigen::MatrixXd Yhat = svd.U * (svd.U.transpose() * measurements.Y);
+  const UpgradedStates states = upgradeStates(Yhat, measurements.poses, problem, config);
+
+  SpectralSolution solution;
+  solution.trajectory = assembleTrajectory(problem.path, measurements.poses, states, config.window_s);
+  solution.solved_poses = C;
+  solution.state_scale = states.state_scale;
+  for (int n = 0; n < N; ++n) {
+    Beacon beacon;
+    beacon.id = problem.beacon_ids[n];
+    beacon.x_m = states.beacons_m(0, n);
+    beacon.y_m = states.beacons_m(1, n);
+    solution.beacons.push_back(beacon);
+  }
+  return solution;
+}
+
+}  // namespace roam

@@ -1,0 +1,69 @@
+// The batch spectral SLAM solve (Boots & Gordon 2013, Alg. 1) on plain data, and its pieces.
+//
+//   1. Dead-reckon the odometry; interpolate the ranges in overlapping windows (Sec. 3.4)
+//      -> Y: N rows of half squared ranges (Eq. 4), plus, for rank 7, N rows of range rates
+//      along the direction of travel (Eq. 8-9 in the zero-step limit).
+//   2. Keep the poses where every row is known; top-k thin SVD via the Gram matrix (Eq. 12);
+//      denoised Yhat = U U^T Y.
+//   3. Metric upgrade (metric_upgrade.hpp): surveyed beacons, or the structure of X plus the
+//      start pose. Learned beacons by regression; headings from the rank-7 rows, or (rank 4)
+//      from a local rotation fit of the learned path onto dead reckoning.
+//   4. Poses the interpolation did not cover (ranging gaps) are bridged by dead reckoning
+//      between the neighbouring solved poses, the end mismatch spread along the distance.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "metric_upgrade.hpp"
+#include "odometry_path.hpp"
+#include "range_interpolation.hpp"
+#include "roam/types.hpp"
+#include "spectral_config.hpp"
+
+namespace roam {
+
+struct SpectralProblem {
+  OdometryPath path;                 // dead reckoned from the start pose
+  std::vector<RangeSample> ranges;   // sorted by time; RangeSample::beacon indexes beacon_ids
+  std::vector<int> beacon_ids;       // row n -> beacon id
+  std::vector<std::optional<Eigen::Vector2d>> surveyed;  // row n -> surveyed position, if any
+};
+
+struct SpectralSolution {
+  Path trajectory;  // one pose per pose of the problem's path
+  Map beacons;      // learned
+  int solved_poses = 0;      // poses with every row of Y (the rest are bridged)
+  double state_scale = 1.0;  // anchor = beacons: learned X[0] (kappa^2 for ranges scaled by kappa)
+};
+
+InterpolationConfig interpolationConfig(const SpectralConfig& config);
+
+// Columns of Y (step 1-2) for the poses in [first_pose, end_pose) where every row is known.
+struct MeasurementMatrix {
+  std::vector<int> poses;
+  Eigen::MatrixXd Y;  // (N or 2N) x poses.size()
+};
+MeasurementMatrix measurementMatrix(const RangeInterpolator& interpolator, int rank, int first_pose,
+                                    int end_pose);
+
+// Step 3 on the denoised Yhat of the columns `poses`.
+struct UpgradedStates {
+  Eigen::Matrix2Xd xy_m;         // per column
+  Eigen::VectorXd heading_rad;   // per column (rank 7), empty for rank 4
+  Eigen::Matrix2Xd beacons_m;    // per row
+  double state_scale = 1.0;
+};
+UpgradedStates upgradeStates(const Eigen::MatrixXd& Yhat, const std::vector<int>& poses,
+                             const SpectralProblem& problem, const SpectralConfig& config);
+
+// Step 4 and headings: one pose per pose of the path.
+Path assembleTrajectory(const OdometryPath& path, const std::vector<int>& poses,
+                        const UpgradedStates& states, double heading_window_s);
+
+// Steps 1-4. Throws std::runtime_error with the reason if the data cannot be solved.
+SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config);
+
+}  // namespace roam
