@@ -1,0 +1,76 @@
+#include "ekf_config.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace roam {
+
+void addEkfOptions(Options& o, EkfConfig* c) {
+  o.add("anchor", &c->anchor, "start_pose | beacons").oneOf({"start_pose", "beacons"});
+  o.add("beacon_sigma_m", &c->beacon_sigma_m, "anchor = beacons: surveyed position sigma per axis").min(0.0, false);
+  o.add("start_sigma_m", &c->start_sigma_m, "anchor = beacons: start position sigma").min(0.0);
+  o.add("start_heading_sigma_rad", &c->start_heading_sigma_rad, "anchor = beacons: start heading sigma").min(0.0);
+  o.add("odo_distance_sigma_rel", &c->odo_distance_sigma_rel, "odometry distance sigma per metre").min(0.0);
+  o.add("odo_distance_sigma_m", &c->odo_distance_sigma_m, "odometry distance sigma floor per step").min(0.0);
+  o.add("odo_heading_sigma_rel", &c->odo_heading_sigma_rel, "heading sigma per radian turned").min(0.0);
+  o.add("odo_heading_sigma_per_sqrt_m", &c->odo_heading_sigma_per_sqrt_m, "heading random walk per sqrt(metre)").min(0.0);
+  o.add("odo_heading_sigma_rad", &c->odo_heading_sigma_rad, "heading sigma floor per step").min(0.0);
+  o.add("range_sigma_m", &c->range_sigma_m, "range noise sigma when a range carries none").min(0.0, false);
+  o.add("bearing_sigma_rad", &c->bearing_sigma_rad, "bearing noise sigma").min(0.0, false);
+  o.add("range_bias", &c->range_bias, "none | shared (estimated range scale and offset)").oneOf({"none", "shared"});
+  o.add("range_scale_sigma", &c->range_scale_sigma, "prior sigma of the range scale (mean 1)").min(0.0, false);
+  o.add("range_offset_sigma_m", &c->range_offset_sigma_m, "prior sigma of the range offset (mean 0)").min(0.0, false);
+  o.add("gate_probability", &c->gate_probability, "Mahalanobis gate probability (1: no gate)").min(0.0, false).max(1.0);
+  o.add("init_min_ranges", &c->init_min_ranges, "ranges buffered before a beacon may be initialised").min(3);
+  o.add("init_min_baseline_m", &c->init_min_baseline_m, "extent of the buffered poses before initialising").min(0.0);
+  o.add("init_max_sigma_m", &c->init_max_sigma_m, "largest sigma of the batch solution accepted").min(0.0, false);
+  o.add("init_min_angle_rad", &c->init_min_angle_rad, "angle the buffered poses span seen from the beacon").min(0.0).max(M_PI);
+  o.add("init_mirror_chi2", &c->init_mirror_chi2, "chi2 margin of the best solution over its mirror").min(0.0);
+  o.add("init_max_ranges", &c->init_max_ranges, "ranges buffered per pending beacon").min(3);
+  o.add("init_window_s", &c->init_window_s, "buffered ranges older than this are dropped").min(0.0, false);
+  o.add("init_prior_inflation", &c->init_prior_inflation, "batch covariance inflation before re-applying the ranges").min(1.0, false);
+  o.add("max_step_m", &c->max_step_m, "odometry steps longer than this are rejected").min(0.0, false);
+}
+
+void validate(const EkfConfig& c) {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("ekf config: expected " + what); };
+  if (c.anchor != "start_pose" && c.anchor != "beacons") fail("anchor = start_pose | beacons, got '" + c.anchor + "'");
+  if (c.range_bias != "none" && c.range_bias != "shared") fail("range_bias = none | shared, got '" + c.range_bias + "'");
+  if (!(c.beacon_sigma_m > 0.0)) fail("beacon_sigma_m > 0");
+  if (!(c.range_sigma_m > 0.0)) fail("range_sigma_m > 0");
+  if (!(c.bearing_sigma_rad > 0.0)) fail("bearing_sigma_rad > 0");
+  if (!(c.range_scale_sigma > 0.0)) fail("range_scale_sigma > 0");
+  if (!(c.range_offset_sigma_m > 0.0)) fail("range_offset_sigma_m > 0");
+  if (!(c.start_sigma_m >= 0.0) || !(c.start_heading_sigma_rad >= 0.0)) fail("start sigmas >= 0");
+  if (!(c.odo_distance_sigma_rel >= 0.0) || !(c.odo_distance_sigma_m >= 0.0) ||
+      !(c.odo_heading_sigma_rel >= 0.0) || !(c.odo_heading_sigma_per_sqrt_m >= 0.0) ||
+      !(c.odo_heading_sigma_rad >= 0.0))
+    fail("odometry sigmas >= 0");
+  if (!(c.gate_probability > 0.0 && c.gate_probability <= 1.0)) fail("gate_probability in (0, 1]");
+  if (c.init_min_ranges < 3) fail("init_min_ranges >= 3");
+  if (c.init_max_ranges < c.init_min_ranges) fail("init_max_ranges >= init_min_ranges");
+  if (!(c.init_min_baseline_m >= 0.0)) fail("init_min_baseline_m >= 0");
+  if (!(c.init_max_sigma_m > 0.0)) fail("init_max_sigma_m > 0");
+  if (!(c.init_min_angle_rad >= 0.0 && c.init_min_angle_rad <= M_PI)) fail("init_min_angle_rad in [0, pi]");
+  if (!(c.init_mirror_chi2 >= 0.0)) fail("init_mirror_chi2 >= 0");
+  if (!(c.init_window_s > 0.0)) fail("init_window_s > 0");
+  if (!(c.init_prior_inflation > 1.0)) fail("init_prior_inflation > 1");
+  if (!(c.max_step_m > 0.0)) fail("max_step_m > 0");
+}
+
+double chiSquareQuantile(int dof, double probability) {
+  if (probability >= 1.0) return std::numeric_limits<double>::infinity();
+  if (dof == 2) return -2.0 * std::log1p(-probability);  // CDF 1 - exp(-x/2)
+  if (dof != 1) throw std::invalid_argument("chiSquareQuantile: dof must be 1 or 2");
+  // CDF of chi2(1) is erf(sqrt(x/2)); bisection on z = sqrt(x) in [0, 40].
+  double low = 0.0, high = 40.0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (low + high);
+    (std::erf(mid / std::sqrt(2.0)) < probability ? low : high) = mid;
+  }
+  const double z = 0.5 * (low + high);
+  return z * z;
+}
+
+}  // namespace roam

@@ -1,0 +1,55 @@
+// Configuration of the ekf plugin, with the reasoning behind each default (see README.md).
+#pragma once
+
+#include <string>
+
+#include "roam/options.hpp"
+
+namespace roam {
+
+struct EkfConfig {
+  // "start_pose": the INITIAL_POSE is exact and every beacon is initialised from ranges;
+  // "beacons": the BEACONS message gives a prior on each beacon (sigma beacon_sigma_m).
+  std::string anchor = "start_pose";
+  double beacon_sigma_m = 0.1;             // surveyed beacon position, 1 sigma per axis
+  double start_sigma_m = 0.5;              // anchor = beacons: prior on the start position
+  double start_heading_sigma_rad = 0.05;   // anchor = beacons: prior on the start heading
+
+  // Odometry noise per step: var_d = (rel d)^2 + floor^2,
+  // var_dtheta = (rel_turn |dtheta|)^2 + per_sqrt_m^2 d + floor^2.
+  double odo_distance_sigma_rel = 0.02;
+  double odo_distance_sigma_m = 0.005;
+  double odo_heading_sigma_rel = 0.02;
+  double odo_heading_sigma_per_sqrt_m = 0.01;
+  double odo_heading_sigma_rad = 0.001;
+
+  double range_sigma_m = 0.5;              // used when a range carries no sigma
+  double bearing_sigma_rad = 0.05;         // used for range-bearing measurements
+  // "none" | "shared": one range scale and offset for all beacons, estimated.
+  std::string range_bias = "shared";
+  double range_scale_sigma = 0.1;          // prior on the scale (mean 1)
+  double range_offset_sigma_m = 0.5;       // prior on the offset (mean 0)
+
+  double gate_probability = 0.999;         // Mahalanobis gate; 1 disables gating
+  // Delayed initialisation (anchor = start_pose, or beacons not in BEACONS).
+  int init_min_ranges = 6;
+  double init_min_baseline_m = 3.0;
+  double init_max_sigma_m = 1.0;
+  double init_min_angle_rad = 1.0;
+  double init_mirror_chi2 = 16.0;
+  int init_max_ranges = 200;               // buffer per pending beacon (oldest dropped)
+  double init_window_s = 600.0;            // buffered ranges older than this are dropped
+  double init_prior_inflation = 100.0;     // batch covariance x this = prior before re-applying
+  double max_step_m = 10.0;                // odometry steps longer than this are rejected
+};
+
+// Registers every key of the [estimator.*] section with its checks (the shim calls parse()).
+void addEkfOptions(Options& options, EkfConfig* config);
+
+// Throws std::invalid_argument naming the first broken constraint (for direct construction).
+void validate(const EkfConfig& config);
+
+// Chi-square quantile for dof = 1 or 2 at the given probability (infinity for probability 1).
+double chiSquareQuantile(int dof, double probability);
+
+}  // namespace roam

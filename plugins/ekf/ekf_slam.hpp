@@ -1,0 +1,123 @@
+// Cartesian range-only EKF SLAM: roam's "ekf" estimator.
+//
+// Model: the state is [x, y, theta, (scale, offset), m1x, m1y, ...] (EkfFilter); each odometry
+// step predicts the pose with noise
+//   var_d      = (odo_distance_sigma_rel d)^2 + odo_distance_sigma_m^2,
+//   var_dtheta = (odo_heading_sigma_rel |dtheta|)^2 + odo_heading_sigma_per_sqrt_m^2 d
+//                + odo_heading_sigma_rad^2,
+// and each range updates it (range-bearing when has_bearing is set), Mahalanobis-gated at
+// gate_probability. Timing: a range is held until the odometry step that contains its time
+// arrives, then applied part-way through that step: the robot moves straight along its heading
+// during a step and turns at its end (the motion model), so the pose at fraction a of the step
+// is p + a d (cos theta, sin theta) — exact for the model, not an approximation — and the
+// step's distance noise is split a : (1 - a). The pose is published once per odometry step.
+//
+// Gauge: anchor = start_pose fixes the frame by the INITIAL_POSE (zero covariance);
+// anchor = beacons puts the surveyed positions in the state with sigma beacon_sigma_m (and a
+// loose prior on the start pose, which the EKF needs as a linearisation point).
+//
+// Beacon initialisation (range-only beacons are not observable from one range): ranges to an
+// unknown beacon are buffered with the filtered pose they were taken at. Once the multilateration
+// (multilateration.hpp) is unambiguous and well constrained, the filter is rolled back to the
+// state before that beacon's first buffered range, the beacon is inserted there with a weak
+// prior (the batch solution's mean, its covariance times init_prior_inflation), and every step
+// since is re-run, re-applying the buffered ranges. The beacon thus enters with the correlations
+// with pose, heading and range bias that the filter would have had if it had known the beacon
+// from the start, linearised at a good estimate; a beacon inserted from a frozen batch estimate
+// instead fixes its error into the frame. With range-bias states the batch estimates scale and
+// offset too (prior: the filter's marginal); for the first beacon, while the bias is still at its
+// prior, the snapshot's bias mean is re-centred on the batch estimate (its width unchanged), so
+// the re-run linearises s |m - p| + b about a consistent pair. The published TRAJECTORY is the
+// filtered path after these re-runs; POSE messages already published are not revised. History
+// is kept only while a beacon is pending (bounded by init_max_ranges and init_window_s).
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <set>
+#include <vector>
+
+#include "ekf_config.hpp"
+#include "ekf_filter.hpp"
+#include "multilateration.hpp"
+#include "roam/estimator.hpp"
+
+namespace roam {
+
+class EkfSlam : public Estimator {
+ public:
+  explicit EkfSlam(const EkfConfig& config);
+
+  void setInitialPose(const Pose& start) override;
+  void setBeacons(const Map& surveyed) override;
+  void addOdometry(const Odometry& odometry) override;
+  void addRange(const Range& range) override;
+  void finish() override;
+  bool trajectory(bool force, Path* path) override;
+
+  bool started() const { return started_; }
+  const EkfFilter& filter() const { return filter_; }
+  const Path& path() const { return path_; }  // filtered path, one pose per step
+  Map currentMap() const;
+  // Beacons waiting for initialisation, with their buffered range counts.
+  std::map<int, int> pendingBeacons() const;
+  // Each delayed initialisation: when it happened and the batch solve it started from.
+  struct Initialisation {
+    int id;
+    int64_t utime;        // when the solve was accepted
+    int64_t first_utime;  // the step the beacon entered at (its first buffered range)
+    int num_ranges;
+    MultilaterationResult solve;
+  };
+  const std::vector<Initialisation>& initialisations() const { return initialisations_; }
+
+ private:
+  struct Insert {
+    int id;
+    Eigen::Vector2d world_m;
+    Eigen::Matrix2d cov_m2;
+  };
+  // One odometry step with the ranges applied within it, and the filter before it.
+  struct Step {
+    int64_t index = 0;
+    Odometry odometry;
+    std::vector<Range> ranges;
+    std::vector<Insert> inserts;  // beacons entering the state at the start of this step
+    EkfFilter before;
+    int64_t before_utime = 0;
+    size_t path_size = 0;
+  };
+
+  void start(const Pose& pose);
+  void insertSurveyed();
+  void runStep(const Step& step, bool live);
+  void handleRange(const Range& range, int64_t step_index, bool live);
+  void initialiseReadyBeacons();
+  void rollbackAndInsert(int id, const MultilaterationResult& solve);
+  void replayFrom(int64_t offset, int64_t first_step);
+  void prune();
+  Pose currentPose(int64_t utime) const;
+  void publishDiagnostics();
+
+  EkfConfig config_;
+  MultilaterationConfig init_config_;
+  double gate_range_chi2_ = 0.0;          // 1 dof
+  double gate_range_bearing_chi2_ = 0.0;  // 2 dof
+  EkfFilter filter_;
+  bool started_ = false;
+  int64_t state_utime_ = 0;
+  int64_t next_step_ = 0;
+  std::vector<Range> waiting_;  // ranges for the next odometry step
+  std::deque<Step> history_;    // steps since the first sighting of a pending beacon
+  std::map<int, std::vector<Sighting>> pending_;
+  std::set<int> touched_;  // pending beacons with new sightings since the last check
+  Map surveyed_;
+  Path path_;
+  bool map_dirty_ = false;
+  std::vector<Initialisation> initialisations_;
+  int64_t replays_ = 0;
+  int64_t gated_ = 0;
+};
+
+}  // namespace roam

@@ -1,0 +1,84 @@
+// Configuration of the spectral_batch plugin (Ceres batch range-only SLAM), with the reasoning
+// behind each default. Defaults come from the sensors' stated noise and the maths, never from a
+// search on a benchmark run.
+#pragma once
+
+#include <string>
+
+#include "roam/options.hpp"
+
+namespace roam {
+
+struct SpectralBatchConfig {
+  // Initial guess of the first solve: "spectral" (the spectral core's path and map) or
+  // "deadreckoning" (integrated odometry; beacons by linear multilateration from that path, or
+  // the surveyed ones with anchor = beacons) - the paper's "Batch Opt." row, same solver.
+  std::string init = "spectral";
+  // Gauge: "start_pose" fixes the first pose at INITIAL_POSE (SLAM with unknown beacons);
+  // "beacons" fixes the surveyed beacons from BEACONS (the start pose then only seeds the path).
+  std::string anchor = "start_pose";
+  // init = spectral: 0 (default) takes the spectral core's own headings (its rank-7 heading
+  // rows); > 0 replaces them by the direction of travel of the spectral positions over chords of
+  // this many seconds centred on each pose (a ~4 m chord at 1 m/s averages 0.3 m position noise
+  // down to ~0.1 rad).
+  double seed_heading_window_s = 0.0;
+
+  // Odometry noise per step (the same model and defaults as the ekf plugin, so estimators are
+  // compared on equal terms): sigma_d = rel d + floor along the track;
+  // sigma_dtheta^2 = (rel_turn |dtheta|)^2 + per_sqrt_m^2 d + floor^2 (a heading random walk of
+  // 0.01 rad per sqrt(metre): ~0.3 rad after a kilometre, typical of wheel odometry). The lateral
+  // displacement over a step is held by hypot(sigma_d, d sigma_dtheta): a heading error of
+  // sigma_dtheta moves the end of a step of length d sideways by d sigma_dtheta.
+  double odo_distance_sigma_rel = 0.02;
+  double odo_distance_sigma_m = 0.005;
+  double odo_heading_sigma_rel = 0.02;
+  double odo_heading_sigma_per_sqrt_m = 0.01;
+  double odo_heading_sigma_rad = 0.001;
+
+  // Range noise (used when a range carries no sigma): a UWB ranging radio, ~0.3 m.
+  double range_sigma_m = 0.3;
+  // Robust loss on the whitened range residual: huber | cauchy | tukey | none. The scale is in
+  // sigmas; 0 picks the loss's 95 %-efficiency constant (huber 1.345, cauchy 2.385, tukey 4.685).
+  std::string loss = "huber";
+  double loss_scale = 0.0;
+  // Annealing: the robust loss starts loss_anneal_factor^(stages-1) times wider and narrows by
+  // that factor per stage, so a start far from the optimum is not down-weighted into a stall.
+  int loss_anneal_stages = 3;
+  double loss_anneal_factor = 4.0;
+
+  // Calibration of the ranging radio: measured = scale * |beacon - robot| + offset, with one
+  // scale and one offset shared by all beacons, estimated with the rest (UWB ranges are often
+  // biased: the scale is observable against odometry distances, the offset against the spread of
+  // ranges).
+  bool estimate_range_scale = true;
+  bool estimate_range_offset = true;
+
+  // Live mode: re-solve over all data so far every resolve_interval_s of data time, warm-started
+  // from the previous solve (0: solve only at the end of input).
+  double resolve_interval_s = 0.0;
+
+  // Ceres solver. Sparse normal Cholesky suits the block-tridiagonal pose chain plus a few
+  // dense beacon columns. Tolerances are Ceres' own defaults tightened so exact data converges
+  // to well below a micrometre.
+  std::string linear_solver = "sparse_normal_cholesky";  // | dense_qr | sparse_schur | iterative_schur | cgnr
+  int max_iterations = 100;       // per annealing stage
+  double function_tolerance = 1e-10;
+  double gradient_tolerance = 1e-12;
+  double parameter_tolerance = 1e-10;
+  int num_threads = 1;            // deterministic and polite on a shared machine
+  bool verbose = false;           // the solver summary on stderr after every solve
+
+  // Odometry steps longer than this are rejected as jumps (same meaning as deadreckoning).
+  double max_step_m = 10.0;
+};
+
+// The robust-loss scale actually used (loss_scale, or the loss's 95 %-efficiency constant).
+double effectiveLossScale(const SpectralBatchConfig& config);
+
+// Registers every key of the [estimator.*] section with its checks (the shim calls parse()).
+void addSpectralBatchOptions(Options& options, SpectralBatchConfig* config);
+
+// Throws std::invalid_argument naming the first broken constraint (for direct construction).
+void validate(const SpectralBatchConfig& config);
+
+}  // namespace roam

@@ -1,0 +1,63 @@
+// One batch solve: the sparse nonlinear least-squares problem over every pose and beacon, built
+// and solved with Ceres (the only translation unit of the core that includes Ceres).
+//
+// Cost (residuals in batch_residuals.hpp):
+//   sum_k |r_odo,k|^2 + sum_i rho(|r_range,i|^2)
+// with rho the robust loss, annealed: stage j of n uses the scale c f^(n-1-j), so the first
+// stages see nearly quadratic costs (a poor start is not down-weighted into a stall) and the last
+// uses the configured scale c. Gauge: the first pose held constant, and/or the beacons marked
+// fixed held constant. The calibration (scale, offset) is held constant unless estimated.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "batch_config.hpp"
+#include "roam/types.hpp"
+
+namespace roam {
+namespace batch {
+
+// A range tied to the pose chain: at pose `pose` (alpha = 0) or a fraction alpha of the way to
+// pose + 1.
+struct RangeObservation {
+  int pose = 0;
+  double alpha = 0.0;
+  int beacon = 0;  // index into the beacon blocks
+  double range_m = 0.0;
+  double sigma_m = 0.0;
+};
+
+struct Problem {
+  std::vector<Odometry> odometry;  // step k moves pose k to pose k + 1
+  std::vector<RangeObservation> ranges;
+  std::vector<bool> beacon_fixed;  // one per beacon block
+  bool fix_first_pose = true;
+};
+
+// The unknowns, also the initial guess.
+struct State {
+  std::vector<std::array<double, 3>> poses;    // world_T_robot: x_m, y_m, heading_rad
+  std::vector<std::array<double, 2>> beacons;  // x_m, y_m
+  std::array<double, 2> calibration{1.0, 0.0};  // range scale, range offset_m
+};
+
+struct Summary {
+  int iterations = 0;           // over every annealing stage
+  int stages = 0;
+  double initial_cost = 0.0;    // of the first stage (Ceres' 1/2 sum of squares)
+  double final_cost = 0.0;      // of the last stage
+  double time_s = 0.0;          // Ceres' wall time over every stage
+  bool usable = false;          // Ceres' IsSolutionUsable() on the last stage
+  std::string report;           // Ceres' brief reports, one line per stage
+};
+
+// Odometry sigmas of one step (along track, lateral, heading), see batch_config.hpp.
+std::array<double, 3> odometrySigmas(const SpectralBatchConfig& config, const Odometry& odometry);
+
+// Solves in place. Beacons without ranges are left as they are.
+Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* state);
+
+}  // namespace batch
+}  // namespace roam

@@ -1,0 +1,36 @@
+// Initial guesses of the batch problem that need no other estimator.
+//
+// Dead reckoning: from the start pose, x += d cos th; y += d sin th; th += dth (move, then turn;
+// the deadreckoning plugin's convention).
+// Beacon by linear multilateration: |m - p_i|^2 = r_i^2 is linear in u = (m_x, m_y, |m|^2):
+//   [-2 p_ix, -2 p_iy, 1] u = r_i^2 - |p_i|^2,
+// solved by least squares (Eigen, column-pivoting QR). It needs >= 3 positions not on one line;
+// the positions come from the guessed path, so the beacon inherits its errors (a seed only).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "roam/types.hpp"
+
+namespace roam {
+namespace batch {
+
+std::vector<std::array<double, 3>> deadReckon(const std::array<double, 3>& start_pose,
+                                              const std::vector<Odometry>& odometry);
+
+// Headings of a path from its positions: heading_k = direction of the chord from the pose
+// half_window_s before k to the pose half_window_s after k (clamped to the path), so the noise of
+// each position is averaged over a chord of ~2 half_window_s of travel. Where the chord is
+// shorter than min_chord_m (the robot stands still) the previous heading is kept; before the
+// first long chord the given heading of pose 0 is kept. Headings are unwrapped.
+void headingsFromChords(const std::vector<int64_t>& utime, double half_window_s, double min_chord_m,
+                        std::vector<std::array<double, 3>>* poses);
+
+// False if fewer than 3 ranges or the positions do not span the plane (relative rcond 1e-9).
+bool multilaterate(const std::vector<std::array<double, 2>>& positions_m,
+                   const std::vector<double>& ranges_m, std::array<double, 2>* beacon_m);
+
+}  // namespace batch
+}  // namespace roam

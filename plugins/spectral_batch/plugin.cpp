@@ -1,0 +1,19 @@
+// ABI shim: the spectral + batch (Ceres) SLAM core as plugin "spectral_batch".
+#include "batch_config.hpp"
+#include "roam/plugin_shim.hpp"
+#include "spectral_batch_slam.hpp"
+
+namespace {
+
+std::unique_ptr<roam::Estimator> makeSpectralBatch(roam::Options& options) {
+  roam::SpectralBatchConfig config;
+  roam::addSpectralBatchOptions(options, &config);
+  options.parse();
+  return std::make_unique<roam::SpectralBatchSlam>(config);
+}
+
+}  // namespace
+
+ROAM_DEFINE_PLUGIN("spectral_batch",
+                   "Ceres batch range-only SLAM seeded by spectral SLAM or dead reckoning",
+                   makeSpectralBatch)

@@ -1,0 +1,323 @@
+#include "spectral_batch_slam.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <iostream>
+#include <set>
+#include <stdexcept>
+
+#include "initial_guess.hpp"
+#include "spectral_seed.hpp"
+
+namespace roam {
+namespace {
+
+// A chord shorter than this speed times its window means the robot barely moved: no heading.
+constexpr double kMinSeedSpeed_mps = 0.1;
+
+std::array<double, 3> propagate(const std::array<double, 3>& pose, const Odometry& step) {
+  return {pose[0] + step.delta_distance_m * std::cos(pose[2]),
+          pose[1] + step.delta_distance_m * std::sin(pose[2]), pose[2] + step.delta_heading_rad};
+}
+
+Pose toPose(int64_t utime, const std::array<double, 3>& pose) {
+  Pose out;
+  out.utime = utime;
+  out.x_m = pose[0];
+  out.y_m = pose[1];
+  out.heading_rad = wrapAngle(pose[2]);
+  return out;
+}
+
+}  // namespace
+
+SpectralBatchSlam::SpectralBatchSlam(const SpectralBatchConfig& config) : config_(config) {
+  validate(config_);
+  if (config_.init == "spectral") spectral_ = batch::makeSpectralSeed(config_);
+}
+
+SpectralBatchSlam::~SpectralBatchSlam() = default;
+
+void SpectralBatchSlam::start(const Pose& start_pose) {
+  started_ = true;
+  pose_utime_.assign(1, start_pose.utime);
+  start_pose_ = {start_pose.x_m, start_pose.y_m, start_pose.heading_rad};
+  current_pose_ = start_pose_;
+  last_solve_utime_ = start_pose.utime;
+  setState(EstimatorState::kTracking);
+  emitPose(toPose(start_pose.utime, current_pose_));
+}
+
+void SpectralBatchSlam::setInitialPose(const Pose& start_pose) {
+  if (started_) return;  // the start is fixed once odometry has begun
+  start(start_pose);
+  if (spectral_) spectral_->setInitialPose(start_pose);
+}
+
+void SpectralBatchSlam::setBeacons(const Map& surveyed) {
+  surveyed_ = surveyed;
+  if (spectral_) spectral_->setBeacons(surveyed);
+}
+
+void SpectralBatchSlam::addOdometry(const Odometry& odometry) {
+  if (odometry.delta_distance_m < 0.0) return rejectOdometry("negative distance");
+  if (odometry.delta_distance_m > config_.max_step_m)
+    return rejectOdometry("step longer than max_step_m");
+  if (!started_) {
+    // No INITIAL_POSE: start at the origin, at this step's time (as deadreckoning does).
+    Pose origin;
+    origin.utime = odometry.utime;
+    start(origin);
+  }
+  if (odometry.utime < pose_utime_.back()) return rejectOdometry("time went backwards");
+  odometry_.push_back(odometry);
+  pose_utime_.push_back(odometry.utime);
+  acceptOdometry();
+  if (spectral_) spectral_->addOdometry(odometry);
+
+  current_pose_ = propagate(current_pose_, odometry);
+  emitPose(toPose(odometry.utime, current_pose_));
+
+  if (config_.resolve_interval_s > 0.0 &&
+      static_cast<double>(odometry.utime - last_solve_utime_) >= config_.resolve_interval_s * 1e6)
+    solveNow(false);
+}
+
+void SpectralBatchSlam::addRange(const Range& range) {
+  if (!(range.range_m > 0.0)) return rejectRange("range not positive");
+  ranges_.push_back(range);
+  acceptRange();
+  if (spectral_) spectral_->addRange(range);
+}
+
+void SpectralBatchSlam::finish() {
+  if (started_) {
+    if (spectral_) {
+      try {
+        spectral_->finish();
+      } catch (const std::exception& error) {
+        // The batch solve goes on from dead reckoning; the reason is on stderr with verbose.
+        if (config_.verbose) std::cerr << "spectral_batch: spectral seed failed: " << error.what() << "\n";
+        spectral_.reset();
+      }
+    }
+    solveNow(true);
+  }
+  setState(EstimatorState::kFinished);
+}
+
+std::vector<std::array<double, 3>> SpectralBatchSlam::initialPoses(bool final) {
+  const size_t num_poses = pose_utime_.size();
+  // The final solve re-seeds from the spectral solution over all data unless the warm-start
+  // chain already began from one (live mode solves before the spectral batch has a path).
+  const bool reseed = final && spectral_ && !seeded_by_spectral_;
+  if (!solved_poses_.empty() && !reseed) {
+    // Warm start: the previous solution, extended by odometry from its last pose.
+    std::vector<std::array<double, 3>> poses = solved_poses_;
+    while (poses.size() < num_poses) poses.push_back(propagate(poses.back(), odometry_[poses.size() - 1]));
+    return poses;
+  }
+  if (spectral_) {
+    Path path;
+    bool have = false;
+    try {
+      have = spectral_->trajectory(true, &path);
+    } catch (const std::exception& error) {
+      if (config_.verbose) std::cerr << "spectral_batch: spectral seed failed: " << error.what() << "\n";
+    }
+    if (have && path.size() == num_poses) {
+      std::vector<std::array<double, 3>> poses;
+      poses.reserve(num_poses);
+      for (const Pose& pose : path) poses.push_back({pose.x_m, pose.y_m, pose.heading_rad});
+      if (config_.seed_heading_window_s > 0.0) {
+        batch::headingsFromChords(pose_utime_, 0.5 * config_.seed_heading_window_s,
+                                  0.5 * config_.seed_heading_window_s * kMinSeedSpeed_mps, &poses);
+      } else {
+        // Unwrap the headings so each odometry residual starts from its small increment.
+        for (size_t k = 1; k < poses.size(); ++k)
+          poses[k][2] = poses[k - 1][2] + wrapAngle(poses[k][2] - poses[k - 1][2]);
+      }
+      setDiagnostic("init_spectral", 1.0);
+      seeded_by_spectral_ = true;
+      return poses;
+    }
+    if (config_.verbose && final)
+      std::cerr << "spectral_batch: no spectral path of " << num_poses << " poses (got "
+                << path.size() << "); seeding from dead reckoning\n";
+  }
+  if (!solved_poses_.empty()) {
+    // No spectral path after all: keep the warm start.
+    std::vector<std::array<double, 3>> poses = solved_poses_;
+    while (poses.size() < num_poses) poses.push_back(propagate(poses.back(), odometry_[poses.size() - 1]));
+    return poses;
+  }
+  setDiagnostic("init_spectral", 0.0);
+  return batch::deadReckon(start_pose_, odometry_);
+}
+
+void SpectralBatchSlam::solveNow(bool final) {
+  const size_t num_poses = pose_utime_.size();
+  std::vector<std::array<double, 3>> poses = initialPoses(final);
+  Map spectral_map;
+  const bool fresh_seed = seeded_by_spectral_ && !spectral_map_taken_;
+  const bool seeded_by_spectral = fresh_seed && spectral_->takeMap(&spectral_map);
+  if (fresh_seed) spectral_map_taken_ = true;
+
+  // Tie every range to the pose chain (see the header): pose k and alpha along step k.
+  struct Tied {
+    int pose;
+    double alpha;
+    const Range* range;
+  };
+  std::vector<Tied> tied;
+  tied.reserve(ranges_.size());
+  for (const Range& range : ranges_) {
+    const auto after = std::upper_bound(pose_utime_.begin(), pose_utime_.end(), range.utime);
+    if (after == pose_utime_.begin()) {
+      tied.push_back({0, 0.0, &range});
+      continue;
+    }
+    const int k = static_cast<int>(after - pose_utime_.begin()) - 1;
+    if (after == pose_utime_.end()) {
+      if (final || range.utime == pose_utime_.back()) tied.push_back({k, 0.0, &range});
+      continue;  // live: waits for the step that contains it
+    }
+    const double step_us = static_cast<double>(pose_utime_[k + 1] - pose_utime_[k]);
+    const double alpha = step_us > 0.0 ? static_cast<double>(range.utime - pose_utime_[k]) / step_us : 0.0;
+    tied.push_back({k, alpha, &range});
+  }
+  auto positionAt = [&poses](const Tied& t) -> std::array<double, 2> {
+    const auto& a = poses[t.pose];
+    if (t.alpha == 0.0) return {a[0], a[1]};
+    const auto& b = poses[t.pose + 1];
+    return {a[0] + t.alpha * (b[0] - a[0]), a[1] + t.alpha * (b[1] - a[1])};
+  };
+
+  // Beacon blocks: surveyed and fixed (anchor = beacons), the previous solve, the spectral map,
+  // or multilateration from the guessed path, in that order of preference.
+  std::set<int> ids;
+  for (const Tied& t : tied) ids.insert(t.range->beacon_id);
+  batch::Problem problem;
+  batch::State state;
+  std::map<int, int> index_of;
+  for (int id : ids) {
+    std::array<double, 2> beacon{0.0, 0.0};
+    bool have = false;
+    bool fixed = false;
+    if (config_.anchor == "beacons") {
+      for (const Beacon& b : surveyed_) {
+        if (b.id == id) {
+          beacon = {b.x_m, b.y_m};
+          have = fixed = true;
+        }
+      }
+    }
+    if (!have && seeded_by_spectral) {
+      for (const Beacon& b : spectral_map) {
+        if (b.id == id && std::isfinite(b.x_m) && std::isfinite(b.y_m)) {
+          beacon = {b.x_m, b.y_m};
+          have = true;
+        }
+      }
+    }
+    if (!have && solved_beacons_.count(id)) {
+      beacon = solved_beacons_.at(id);
+      have = true;
+    }
+    if (!have) {
+      std::vector<std::array<double, 2>> positions_m;
+      std::vector<double> ranges_m;
+      for (const Tied& t : tied) {
+        if (t.range->beacon_id != id) continue;
+        positions_m.push_back(positionAt(t));
+        ranges_m.push_back(t.range->range_m);
+      }
+      have = batch::multilaterate(positions_m, ranges_m, &beacon);
+    }
+    if (!have) continue;  // not yet observable: its ranges wait for a later solve
+    index_of[id] = static_cast<int>(state.beacons.size());
+    state.beacons.push_back(beacon);
+    problem.beacon_fixed.push_back(fixed);
+  }
+  for (const Tied& t : tied) {
+    const auto found = index_of.find(t.range->beacon_id);
+    if (found == index_of.end()) continue;
+    batch::RangeObservation observation;
+    observation.pose = t.pose;
+    observation.alpha = t.alpha;
+    observation.beacon = found->second;
+    observation.range_m = t.range->range_m;
+    observation.sigma_m = t.range->sigma_m > 0.0 ? t.range->sigma_m : config_.range_sigma_m;
+    problem.ranges.push_back(observation);
+  }
+  problem.odometry = odometry_;
+  problem.fix_first_pose = config_.anchor == "start_pose";
+  state.poses = std::move(poses);
+  state.calibration = calibration_;
+
+  summary_ = batch::solve(config_, problem, &state);
+  ++solves_;
+  if (config_.verbose) {
+    std::cerr << "spectral_batch: solve " << solves_ << " over " << num_poses << " poses, "
+              << problem.ranges.size() << " ranges, " << state.beacons.size() << " beacons: "
+              << summary_.iterations << " iterations, cost " << summary_.initial_cost << " -> "
+              << summary_.final_cost << ", " << summary_.time_s << " s, range scale "
+              << state.calibration[0] << ", offset " << state.calibration[1] << " m\n"
+              << summary_.report;
+  }
+  setDiagnostic("solves", solves_);
+  setDiagnostic("solver_iterations", summary_.iterations);
+  setDiagnostic("solver_stages", summary_.stages);
+  setDiagnostic("solver_initial_cost", summary_.initial_cost);
+  setDiagnostic("solver_final_cost", summary_.final_cost);
+  setDiagnostic("solver_time_s", summary_.time_s);
+  setDiagnostic("ranges_used", static_cast<double>(problem.ranges.size()));
+  if (!summary_.usable) {
+    setState(EstimatorState::kFailed);
+    throw std::runtime_error("spectral_batch: the Ceres solve failed: " + summary_.report);
+  }
+
+  solved_poses_ = std::move(state.poses);
+  for (const auto& [id, index] : index_of) solved_beacons_[id] = state.beacons[index];
+  calibration_ = state.calibration;
+  setDiagnostic("range_scale", calibration_[0]);
+  setDiagnostic("range_offset_m", calibration_[1]);
+  current_pose_ = solved_poses_.back();
+  last_solve_utime_ = pose_utime_.back();
+  new_solution_ = true;
+  emitMap(map());
+}
+
+Map SpectralBatchSlam::map() const {
+  Map out;
+  for (const auto& [id, xy] : solved_beacons_) {
+    Beacon beacon;
+    beacon.id = id;
+    beacon.x_m = xy[0];
+    beacon.y_m = xy[1];
+    out.push_back(beacon);
+  }
+  return out;
+}
+
+Path SpectralBatchSlam::currentPath() const {
+  Path path;
+  path.reserve(pose_utime_.size());
+  std::array<double, 3> pose = solved_poses_.empty() ? start_pose_ : solved_poses_[0];
+  for (size_t k = 0; k < pose_utime_.size(); ++k) {
+    if (k > 0) pose = k < solved_poses_.size() ? solved_poses_[k] : propagate(pose, odometry_[k - 1]);
+    path.push_back(toPose(pose_utime_[k], pose));
+  }
+  return path;
+}
+
+bool SpectralBatchSlam::trajectory(bool force, Path* path) {
+  if (!started_) return false;
+  if (!force && !new_solution_) return false;
+  *path = currentPath();
+  new_solution_ = false;
+  return true;
+}
+
+}  // namespace roam

@@ -1,0 +1,93 @@
+// Spectral + batch range-only SLAM: a sparse nonlinear least-squares smoother over every pose and
+// beacon, solved with Ceres and seeded by the spectral solution (Boots & Gordon, ICML 2013,
+// Sec. 5: "spectral SLAM as an initialization procedure for nonlinear batch optimization") or by
+// dead reckoning (their "Batch Opt." row, with the same solver).
+//
+// Model. Unknowns: poses world_T_robot_k = (x, y, heading) at the start (k = 0) and at the end
+// of every odometry step, beacons (x, y), and an optional shared range calibration (scale s,
+// offset o). Odometry step k is a between-pose residual in robot frame k (along track, lateral,
+// heading increment; sigmas in batch_config.hpp). A range is predicted as s |m - p(t)| + o at the
+// robot position INTERPOLATED LINEARLY along the odometry step that contains its time t (ranges
+// before the start use the start pose; at the end of input, ranges after the last pose use the
+// last pose; in live mode they wait for the next step). Residuals in batch_residuals.hpp, solve
+// with an annealed robust loss in batch_problem.hpp.
+//
+// Gauge: anchor = start_pose holds pose 0 at INITIAL_POSE (or the origin if none came);
+// anchor = beacons holds the surveyed beacons of BEACONS (beacons not surveyed stay free).
+//
+// Initial guess (first solve): init = spectral takes the spectral core's path (positions and its
+// headings, one pose per odometry step plus the start) and map; init = deadreckoning integrates
+// odometry from the start pose. Beacons not given by the seed (or the survey) are multilaterated
+// from the guessed path. If the spectral seed is unavailable (too little data, wrong length or an
+// error) dead reckoning is used and diagnostic "init_spectral" is 0.
+//
+// Output. This is a smoother: POSE per odometry step is the latest solve's last pose propagated
+// by the odometry since (dead reckoning before the first solve). resolve_interval_s > 0: live mode,
+// re-solving over all data so far every interval of data time, warm-started from the previous
+// solution (new poses by odometry from its last pose); TRAJECTORY and MAP after every solve and at
+// finish(), which always solves over everything (re-seeded from the spectral solution over all
+// data if the live solves began before the spectral core had a path). Solver summary in
+// diagnostics().
+#pragma once
+
+#include <array>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "batch_config.hpp"
+#include "batch_problem.hpp"
+#include "roam/estimator.hpp"
+
+namespace roam {
+
+class SpectralBatchSlam : public Estimator {
+ public:
+  // Throws std::invalid_argument on a bad config (or init = spectral without the spectral core).
+  explicit SpectralBatchSlam(const SpectralBatchConfig& config);
+  ~SpectralBatchSlam() override;
+
+  void setInitialPose(const Pose& start) override;
+  void setBeacons(const Map& surveyed) override;
+  void addOdometry(const Odometry& odometry) override;
+  void addRange(const Range& range) override;
+  void finish() override;
+  bool trajectory(bool force, Path* path) override;
+
+  // The latest solve (all zero before the first).
+  const batch::Summary& lastSummary() const { return summary_; }
+  double rangeScale() const { return calibration_[0]; }
+  double rangeOffset_m() const { return calibration_[1]; }
+  int solves() const { return solves_; }
+  // The latest solved map (empty before the first solve).
+  Map map() const;
+
+ private:
+  void start(const Pose& start);
+  void solveNow(bool final);
+  std::vector<std::array<double, 3>> initialPoses(bool final);
+  Path currentPath() const;
+
+  SpectralBatchConfig config_;
+  std::unique_ptr<Estimator> spectral_;  // the seed (init = spectral), fed every input
+  bool started_ = false;
+  std::array<double, 3> start_pose_{0.0, 0.0, 0.0};  // world_T_robot at pose_utime_[0]
+  Map surveyed_;
+  std::vector<Odometry> odometry_;    // step k ends at pose_utime_[k + 1]
+  std::vector<int64_t> pose_utime_;   // pose_utime_[0] is the start
+  std::vector<Range> ranges_;         // every accepted range, in arrival order
+
+  // The latest solution: poses 0 .. solved_poses_.size() - 1, beacons by id, calibration.
+  std::vector<std::array<double, 3>> solved_poses_;
+  std::map<int, std::array<double, 2>> solved_beacons_;
+  std::array<double, 2> calibration_{1.0, 0.0};
+  std::array<double, 3> current_pose_{0.0, 0.0, 0.0};  // the latest estimate, propagated
+  int64_t last_solve_utime_ = 0;
+  bool new_solution_ = false;
+  bool seeded_by_spectral_ = false;  // the solution descends from the spectral seed
+  bool spectral_map_taken_ = false;
+  int solves_ = 0;
+  batch::Summary summary_;
+};
+
+}  // namespace roam

@@ -1,0 +1,36 @@
+#include "spectral_seed.hpp"
+
+#include <stdexcept>
+
+#ifdef ROAM_HAVE_SPECTRAL
+#include "spectral_slam.hpp"
+#endif
+
+namespace roam {
+namespace batch {
+
+#ifdef ROAM_HAVE_SPECTRAL
+
+bool spectralSeedAvailable() { return true; }
+
+std::unique_ptr<Estimator> makeSpectralSeed(const SpectralBatchConfig& config) {
+  SpectralConfig spectral;
+  spectral.anchor = config.anchor == "beacons" ? SpectralAnchor::kBeacons : SpectralAnchor::kStartPose;
+  spectral.max_step_m = config.max_step_m;
+  return std::make_unique<SpectralSlam>(spectral);
+}
+
+#else
+
+bool spectralSeedAvailable() { return false; }
+
+std::unique_ptr<Estimator> makeSpectralSeed(const SpectralBatchConfig& /*config*/) {
+  throw std::invalid_argument(
+      "spectral_batch: init = spectral, but this build has no spectral core "
+      "(plugins/spectral); use init = deadreckoning");
+}
+
+#endif
+
+}  // namespace batch
+}  // namespace roam

@@ -1,0 +1,206 @@
+// SpectralBatchSlam end to end on seeded synthetic runs: calibration, outliers and the robust
+// loss, live re-solves, repeatability, config errors.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "batch_config.hpp"
+#include "feed.hpp"
+#include "sim.hpp"
+#include "spectral_batch_slam.hpp"
+#include "spectral_seed.hpp"
+
+namespace roam {
+namespace {
+
+// A noisy 2-minute lawn mower with 4 beacons, every pose ranged to every beacon.
+sim::SimConfig noisyRun(uint64_t seed) {
+  sim::SimConfig config;
+  config.seed = seed;
+  config.num_steps = 600;
+  config.area_width_m = 20.0;
+  config.area_height_m = 15.0;
+  config.schedule = sim::RangeSchedule::kEveryStepAllBeacons;
+  config.odo_distance_sigma_rel = 0.01;
+  config.odo_heading_sigma_rad = 0.002;
+  config.range_sigma_m = 0.05;
+  return config;
+}
+
+SpectralBatchConfig deadReckoningStart() {
+  SpectralBatchConfig config;
+  config.init = "deadreckoning";
+  config.range_sigma_m = 0.05;  // the simulated noise
+  return config;
+}
+
+struct Result {
+  double mean_error_m;
+  double scale;
+  double offset_m;
+  Path path;
+};
+
+Result run(const Dataset& data, const SpectralBatchConfig& config) {
+  SpectralBatchSlam slam(config);
+  test::feed(data, slam);
+  Result result;
+  EXPECT_TRUE(slam.trajectory(true, &result.path));
+  result.mean_error_m = test::meanError_m(result.path, data.ground_truth);
+  result.scale = slam.rangeScale();
+  result.offset_m = slam.rangeOffset_m();
+  return result;
+}
+
+TEST(SpectralBatchSlam, RecoversRangeScale) {
+  // Ranges 7 % long (measured = 1.07 true). With calibration on the scale comes back to 1e-3:
+  // 2,400 ranges of sigma 0.05 m spread over 5-35 m pin it to ~1e-4; odometry distances (1 %
+  // per step, 120 m in all) hold the metric scale of the map.
+  constexpr double kScaleTolerance = 1e-3;
+  constexpr double kOffsetTolerance_m = 0.05;
+  sim::SimConfig sim_config = noisyRun(21);
+  sim_config.range_scale = 1.07;
+  const Dataset data = sim::simulate(sim_config);
+  const Result calibrated = run(data, deadReckoningStart());
+  EXPECT_NEAR(calibrated.scale, 1.07, kScaleTolerance);
+  EXPECT_NEAR(calibrated.offset_m, 0.0, kOffsetTolerance_m);
+  EXPECT_LT(calibrated.mean_error_m, 0.1);
+
+  // Without calibration the 7 % has to go somewhere: the path is visibly worse.
+  SpectralBatchConfig uncalibrated_config = deadReckoningStart();
+  uncalibrated_config.estimate_range_scale = false;
+  uncalibrated_config.estimate_range_offset = false;
+  const Result uncalibrated = run(data, uncalibrated_config);
+  EXPECT_EQ(uncalibrated.scale, 1.0);
+  EXPECT_GT(uncalibrated.mean_error_m, 2.0 * calibrated.mean_error_m);
+  std::printf("scale 1.07: calibrated %.4f (offset %.4f m), error %.3f m; uncalibrated %.3f m\n",
+              calibrated.scale, calibrated.offset_m, calibrated.mean_error_m, uncalibrated.mean_error_m);
+}
+
+TEST(SpectralBatchSlam, RobustLossRejectsOutliers) {
+  // 10 % of the ranges replaced by true + U(5, 30) m. Bound: the clean run's error is ~0.03 m;
+  // a redescending loss gives the outliers (>= 100 sigma) no weight, so 0.1 m holds with margin.
+  // Plain least squares lets them drag the path by metres.
+  constexpr double kRobustBound_m = 0.1;
+  sim::SimConfig sim_config = noisyRun(22);
+  sim_config.outlier_fraction = 0.1;
+  const Dataset data = sim::simulate(sim_config);
+  double errors_m[4];
+  int i = 0;
+  for (const char* loss : {"cauchy", "tukey", "huber", "none"}) {
+    SpectralBatchConfig config = deadReckoningStart();
+    config.loss = loss;
+    config.verbose = getenv("VERBOSE") != nullptr;
+    errors_m[i++] = run(data, config).mean_error_m;
+  }
+  std::printf("outliers: cauchy %.3f m, tukey %.3f m, huber %.3f m, none %.3f m\n", errors_m[0],
+              errors_m[1], errors_m[2], errors_m[3]);
+  EXPECT_LT(errors_m[0], kRobustBound_m);
+  EXPECT_LT(errors_m[1], kRobustBound_m);
+  EXPECT_GT(errors_m[3], kRobustBound_m);
+}
+
+TEST(SpectralBatchSlam, RepeatRunsAreBitIdentical) {
+  const Dataset data = sim::simulate(noisyRun(23));
+  const Result first = run(data, deadReckoningStart());
+  const Result second = run(data, deadReckoningStart());
+  ASSERT_EQ(first.path.size(), second.path.size());
+  for (size_t k = 0; k < first.path.size(); ++k) {
+    EXPECT_EQ(first.path[k].x_m, second.path[k].x_m);
+    EXPECT_EQ(first.path[k].y_m, second.path[k].y_m);
+    EXPECT_EQ(first.path[k].heading_rad, second.path[k].heading_rad);
+  }
+}
+
+TEST(SpectralBatchSlam, PosePerStepAndMapAtFinish) {
+  const Dataset data = sim::simulate(noisyRun(24));
+  SpectralBatchSlam slam(deadReckoningStart());
+  test::feed(data, slam);
+  // The start pose plus one per odometry step.
+  EXPECT_EQ(slam.takePoses().size(), data.odometry.size() + 1);
+  Map map;
+  ASSERT_TRUE(slam.takeMap(&map));
+  ASSERT_EQ(map.size(), data.beacons.size());
+  for (size_t j = 0; j < map.size(); ++j) {
+    EXPECT_EQ(map[j].id, data.beacons[j].id);
+    EXPECT_NEAR(map[j].x_m, data.beacons[j].x_m, 0.2);
+    EXPECT_NEAR(map[j].y_m, data.beacons[j].y_m, 0.2);
+  }
+  EXPECT_EQ(slam.state(), EstimatorState::kFinished);
+  EXPECT_EQ(slam.solves(), 1);
+  EXPECT_GT(slam.diagnostics().at("solver_iterations"), 0.0);
+  EXPECT_LT(slam.diagnostics().at("solver_final_cost"), slam.diagnostics().at("solver_initial_cost"));
+}
+
+TEST(SpectralBatchSlam, LiveModeResolvesWarmStarted) {
+  // 120 s of data, a re-solve every 30 s of data time: 4 live solves (at 30, 60, 90, 120 s)
+  // plus the final one, each publishing a trajectory; the result matches the batch solve.
+  const Dataset data = sim::simulate(noisyRun(25));
+  SpectralBatchConfig config = deadReckoningStart();
+  config.resolve_interval_s = 30.0;
+  SpectralBatchSlam slam(config);
+  slam.setInitialPose(data.start);
+  size_t r = 0;
+  int trajectories = 0;
+  size_t steps = 0;
+  for (const Odometry& odometry : data.odometry) {
+    while (r < data.ranges.size() && data.ranges[r].utime < odometry.utime) slam.addRange(data.ranges[r++]);
+    slam.addOdometry(odometry);
+    ++steps;
+    Path path;
+    if (slam.trajectory(false, &path)) {
+      ++trajectories;
+      EXPECT_EQ(path.size(), steps + 1);  // every pose so far
+    }
+  }
+  while (r < data.ranges.size()) slam.addRange(data.ranges[r++]);
+  slam.finish();
+  EXPECT_EQ(trajectories, 4);
+  EXPECT_EQ(slam.solves(), 5);
+  Path live;
+  ASSERT_TRUE(slam.trajectory(true, &live));
+  const Result batch = run(data, deadReckoningStart());
+  EXPECT_NEAR(test::meanError_m(live, data.ground_truth), batch.mean_error_m, 0.01);
+}
+
+TEST(SpectralBatchSlam, BadConfigNamesTheKey) {
+  SpectralBatchConfig config;
+  config.loss = "welsch";
+  try {
+    validate(config);
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("loss"), std::string::npos) << error.what();
+  }
+  config = SpectralBatchConfig();
+  config.range_sigma_m = 0.0;
+  EXPECT_THROW(SpectralBatchSlam{config}, std::invalid_argument);
+
+  Options unknown(KeyValues{{"rangesigma_m", "0.3"}});
+  addSpectralBatchOptions(unknown, &config);
+  try {
+    unknown.parse();
+    FAIL() << "expected an error";
+  } catch (const ConfigError& error) {
+    EXPECT_EQ(error.key(), "rangesigma_m");
+    EXPECT_NE(std::string(error.what()).find("range_sigma_m"), std::string::npos) << error.what();
+  }
+  Options bad_solver(KeyValues{{"linear_solver", "magic"}});
+  addSpectralBatchOptions(bad_solver, &config);
+  EXPECT_THROW(bad_solver.parse(), ConfigError);
+}
+
+TEST(SpectralBatchSlam, SpectralInitNeedsTheSpectralCore) {
+  SpectralBatchConfig config;
+  config.init = "spectral";
+  if (batch::spectralSeedAvailable()) {
+    EXPECT_NO_THROW(SpectralBatchSlam{config});
+  } else {
+    EXPECT_THROW(SpectralBatchSlam{config}, std::invalid_argument);
+  }
+}
+
+}  // namespace
+}  // namespace roam
