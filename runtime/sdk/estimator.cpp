@@ -23,6 +23,11 @@ void Estimator::rejectOdometry(const std::string& reason) {
   ++rejections_[last_rejection_];
 }
 
+void Estimator::rejectInput(const std::string& input, const std::string& reason) {
+  last_rejection_ = input + ": " + reason;
+  ++rejections_[last_rejection_];
+}
+
 void Estimator::rejectRange(const std::string& reason) {
   ++ranges_rejected_;
   last_rejection_ = "range: " + reason;

@@ -126,6 +126,8 @@ roam_handle create(Factory factory, const roam_kv* config, int32_t num_config,
     }
     Options options(values);
     auto self = std::make_unique<Instance>();
+    options.add("max_range_m", &self->max_range_m, "longer ranges are rejected as implausible")
+        .min(0.0, false);
     self->estimator = factory(options);
     if (!self->estimator) {
       copyError(error, "", "the plugin's factory returned no estimator");
@@ -156,13 +158,25 @@ int describeConfig(roam_handle h, const roam_kv** config, int32_t* num_config) {
 }
 
 int setInitialPose(roam_handle h, const roam_pose* pose) {
-  return guarded(h, [&](Instance& self) { self.estimator->setInitialPose(fromC(*pose)); });
+  return guarded(h, [&](Instance& self) {
+    if (!std::isfinite(pose->x_m) || !std::isfinite(pose->y_m) || !std::isfinite(pose->heading_rad)) {
+      self.estimator->rejectInput("initial pose", "not finite");
+      return;
+    }
+    self.estimator->setInitialPose(fromC(*pose));
+  });
 }
 
 int setBeacons(roam_handle h, const roam_beacon* beacons, int32_t num_beacons) {
   return guarded(h, [&](Instance& self) {
     Map map;
-    for (int32_t i = 0; i < num_beacons; ++i) map.push_back(fromC(beacons[i]));
+    for (int32_t i = 0; i < num_beacons; ++i) {
+      if (!std::isfinite(beacons[i].x_m) || !std::isfinite(beacons[i].y_m)) {
+        self.estimator->rejectInput("beacon", "not finite");  // the others are still used
+        continue;
+      }
+      map.push_back(fromC(beacons[i]));
+    }
     self.estimator->setBeacons(map);
   });
 }
@@ -183,6 +197,10 @@ int addRange(roam_handle h, const roam_range* range) {
     const std::string problem = checkRange(*range);
     if (!problem.empty()) {
       self.estimator->rejectRange(problem);
+      return;
+    }
+    if (range->range_m > self.max_range_m) {
+      self.estimator->rejectRange("longer than max_range_m");
       return;
     }
     self.estimator->addRange(fromC(*range));

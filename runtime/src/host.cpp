@@ -7,9 +7,17 @@
 #include "roam/estimator_status_t.hpp"
 #include "roam/messages.hpp"
 #include "roam/plugin_shim.hpp"
+#include "roam/safe_decode.hpp"
 
 namespace roam {
 namespace runtime {
+namespace {
+// Seconds from `earlier` to `later` (microseconds), without the signed overflow of
+// `later - earlier` when a damaged log holds utimes near the ends of int64.
+double secondsBetween(int64_t later, int64_t earlier) {
+  return (static_cast<double>(later) - static_cast<double>(earlier)) * 1e-6;
+}
+}  // namespace
 
 Host::Host(const RunConfig& config, std::vector<EstimatorSlot> estimators, Sink* output_sink,
            Sink* input_sink)
@@ -69,7 +77,7 @@ void Host::onEvent(const std::string& channel, int64_t event_utime, const void* 
 namespace {
 template <typename Message>
 bool decode(const void* data, int size, Message* message) {
-  return message->decode(data, 0, size) >= 0;
+  return decodeMessage(data, size, message) >= 0;  // never throws on damaged bytes
 }
 }  // namespace
 
@@ -83,7 +91,7 @@ void Host::feedOdometry(const void* data, int size) {
   if (!acceptInOrder(config_.odometry_channel, message.utime, data, size)) return;
   ++counters_.odometry;
   if (last_odometry_utime_ != INT64_MIN &&
-      static_cast<double>(message.utime - last_odometry_utime_) * 1e-6 > config_.max_odometry_gap_s) {
+      secondsBetween(message.utime, last_odometry_utime_) > config_.max_odometry_gap_s) {
     ++counters_.odometry_gaps;
   }
   last_odometry_utime_ = message.utime;
@@ -152,7 +160,7 @@ void Host::publishOutputs(EstimatorSlot& slot, bool force_status) {
     return;
   }
   const bool due = slot.last_status_utime == INT64_MIN ||
-                   static_cast<double>(data_utime_ - slot.last_status_utime) * 1e-6 >=
+                   secondsBetween(data_utime_, slot.last_status_utime) >=
                        config_.status_interval_s;
   if (force_status || due) publishStatus(slot);
 }
@@ -194,9 +202,18 @@ void Host::publishStatus(EstimatorSlot& slot) {
   message.cpu_total_s = instance.cpuTotalSeconds();
   message.cpu_last_update_s = instance.cpuLastSeconds();
   message.last_error = instance.error();
-  message.num_values = static_cast<int32_t>(status.keys.size());
   message.keys = status.keys;
   message.values = status.values;
+  // What the host skipped before any estimator saw it (the same for every estimator).
+  const std::pair<const char*, int64_t> skipped[] = {
+      {"input skipped: undecodable", counters_.undecodable},
+      {"input skipped: out of order", counters_.out_of_order},
+      {"input skipped: duplicates", counters_.duplicates}};
+  for (const auto& [key, count] : skipped) {
+    message.keys.push_back(key);
+    message.values.push_back(static_cast<double>(count));
+  }
+  message.num_values = static_cast<int32_t>(message.keys.size());
   publish(slot.section.status_channel, message);
   slot.last_status_utime = data_utime_;
 }
@@ -205,7 +222,7 @@ void Host::maybeRequestTrajectories() {
   if (config_.trajectory_interval_s <= 0.0) return;
   for (auto& slot : estimators_) {
     if (slot.last_trajectory_utime == INT64_MIN) slot.last_trajectory_utime = data_utime_;
-    if (static_cast<double>(data_utime_ - slot.last_trajectory_utime) * 1e-6 >=
+    if (secondsBetween(data_utime_, slot.last_trajectory_utime) >=
         config_.trajectory_interval_s) {
       publishTrajectory(slot, true);
       slot.last_trajectory_utime = data_utime_;

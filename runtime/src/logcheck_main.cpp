@@ -17,6 +17,7 @@
 #include "roam/pose_t.hpp"
 #include "roam/range_t.hpp"
 #include "roam/trajectory_t.hpp"
+#include "roam/safe_decode.hpp"
 
 namespace {
 
@@ -25,7 +26,7 @@ bool startsWith(const std::string& text, const std::string& prefix) { return tex
 template <typename Message>
 bool decodes(const lcm::LogEvent& event) {
   Message message;
-  return message.decode(event.data, 0, event.datalen) == event.datalen;
+  return roam::decodeMessage(event.data, event.datalen, &message) == event.datalen;
 }
 
 // Returns the type name, and whether the event decodes as that type.

@@ -37,7 +37,8 @@ std::vector<std::string> PluginLibrary::available(const std::string& folder) {
 
 std::shared_ptr<PluginLibrary> PluginLibrary::open(const std::string& folder, const std::string& name) {
   const std::string path = (fs::path(folder) / ("libroam_" + name + ".so")).string();
-  if (!fs::exists(path)) {
+  std::error_code not_there;  // e.g. a name too long for the file system: no such plugin either
+  if (!fs::exists(path, not_there)) {
     const auto names = available(folder);
     std::string message = "no plugin '" + name + "' in " + folder;
     const std::string hint = closestMatch(name, names);

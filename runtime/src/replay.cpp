@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <lcm/lcm-cpp.hpp>
 #include <stdexcept>
+#include <vector>
 
 namespace roam {
 namespace runtime {
@@ -60,6 +61,46 @@ bool resynchronise(FILE* file, int64_t from) {
   return false;
 }
 
+// One whole event read straight from the bytes at `offset`. LCM's reader also refuses an intact
+// event when the header *after* it is damaged ("Invalid header after log data"); this takes
+// that event anyway. False if the bytes at `offset` are not a whole, plausible event.
+struct RawEvent {
+  std::string channel;
+  int64_t timestamp = 0;
+  std::vector<uint8_t> data;
+  int64_t end = 0;
+};
+
+bool readEventAt(FILE* file, int64_t offset, int64_t file_size, RawEvent* event) {
+  constexpr int kHeaderBytes = 4 + 8 + 8 + 4 + 4;
+  constexpr int32_t kMaxChannelLength = 1000;  // LCM's own limit
+  uint8_t header[kHeaderBytes];
+  if (offset + kHeaderBytes > file_size || std::fseek(file, static_cast<long>(offset), SEEK_SET) != 0 ||
+      std::fread(header, 1, kHeaderBytes, file) != kHeaderBytes) {
+    return false;
+  }
+  auto big = [&](int at, int bytes) {
+    uint64_t value = 0;
+    for (int i = 0; i < bytes; ++i) value = (value << 8) | header[at + i];
+    return value;
+  };
+  const int32_t channel_length = static_cast<int32_t>(big(20, 4));
+  const int32_t data_length = static_cast<int32_t>(big(24, 4));
+  if (big(0, 4) != kLogSyncWord || channel_length <= 0 || channel_length >= kMaxChannelLength ||
+      data_length < 0 || offset + kHeaderBytes + channel_length + data_length > file_size) {
+    return false;
+  }
+  event->timestamp = static_cast<int64_t>(big(12, 8));
+  event->channel.resize(static_cast<size_t>(channel_length));
+  event->data.resize(static_cast<size_t>(data_length));
+  if (std::fread(&event->channel[0], 1, event->channel.size(), file) != event->channel.size() ||
+      std::fread(event->data.data(), 1, event->data.size(), file) != event->data.size()) {
+    return false;
+  }
+  event->end = offset + kHeaderBytes + channel_length + data_length;
+  return true;
+}
+
 }  // namespace
 
 std::string ReplayReport::damage() const {
@@ -87,8 +128,21 @@ ReplayReport replayLog(const std::string& path, Host& host, const std::atomic<bo
   while (!stop.load()) {
     const lcm::LogEvent* event = log.readNextEvent();
     if (event == nullptr) {
+      if (expected_start >= size) break;
+      RawEvent raw;
+      if (readEventAt(log.getFilePtr(), expected_start, size, &raw)) {
+        // An intact event followed by damage: replay it, then look for the next event.
+        expected_start = raw.end;
+        ++report.events;
+        host.onEvent(raw.channel, raw.timestamp, raw.data.data(), static_cast<int>(raw.data.size()));
+        if (!resynchronise(log.getFilePtr(), expected_start)) break;
+        const int64_t resumed = static_cast<int64_t>(std::ftell(log.getFilePtr()));
+        report.bytes_skipped += resumed - expected_start;
+        expected_start = resumed;
+        continue;
+      }
       // LCM's reader stops at a bad header; look for the next event after the last good one.
-      if (expected_start >= size || !resynchronise(log.getFilePtr(), expected_start + 1)) break;
+      if (!resynchronise(log.getFilePtr(), expected_start + 1)) break;
       const int64_t resumed = static_cast<int64_t>(std::ftell(log.getFilePtr()));
       report.bytes_skipped += resumed - expected_start;
       expected_start = resumed;

@@ -11,6 +11,7 @@
 
 #include "roam/estimator_status_t.hpp"
 #include "roam/messages.hpp"
+#include "roam/safe_decode.hpp"
 
 namespace roam {
 namespace {
@@ -19,7 +20,7 @@ bool startsWith(const std::string& text, const char* prefix) { return text.rfind
 
 template <typename Message>
 bool decode(const lcm::LogEvent& event, Message* message) {
-  return event.datalen >= 0 && message->decode(event.data, 0, event.datalen) == event.datalen;
+  return event.datalen >= 0 && decodeMessage(event.data, event.datalen, message) == event.datalen;
 }
 
 const char* stateName(int8_t state) {

@@ -57,6 +57,9 @@ class Estimator {
   // reject non-finite values before the estimator sees them).
   void rejectOdometry(const std::string& reason);
   void rejectRange(const std::string& reason);
+  // Counts another input that was not used ("initial pose", "not finite"), by name only: it is
+  // neither odometry nor a range.
+  void rejectInput(const std::string& input, const std::string& reason);
 
  protected:
   void emitPose(const Pose& pose) { pending_poses_.push_back(pose); }

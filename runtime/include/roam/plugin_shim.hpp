@@ -12,7 +12,9 @@
 //
 // Every entry point catches exceptions, stores the message and returns ROAM_ERROR; nothing
 // crosses the boundary. Inputs that are not finite are rejected (and counted) here, before
-// the estimator sees them, so every plugin gets the same basic hygiene.
+// the estimator sees them, so every plugin gets the same basic hygiene. So are implausibly
+// long ranges: every plugin has the option `max_range_m` (default kDefaultMaxRange_m), added
+// here before the plugin's own options, so a plugin must not declare a key of that name.
 #pragma once
 
 #include <cstring>
@@ -30,9 +32,14 @@ namespace shim {
 
 using Factory = std::unique_ptr<Estimator> (*)(Options& options);
 
+// Ranges longer than this are rejected as implausible unless the config says otherwise
+// (beacon radios reach a few hundred metres; a glitch reads 655.35 m or 1e9 m).
+constexpr double kDefaultMaxRange_m = 1000.0;
+
 // One plugin instance on the C side: the estimator and the buffers handed across.
 struct Instance {
   std::unique_ptr<Estimator> estimator;
+  double max_range_m = kDefaultMaxRange_m;  // the SDK's own option
   std::string last_error;
   KeyValues effective;
   std::vector<roam_kv> effective_view;
