@@ -86,8 +86,16 @@ void SpectralSlam::addRange(const Range& range) {
 
 void SpectralSlam::finish() {
   if (solution_) return;
-  if (!have_start_) throw std::runtime_error("spectral: no odometry");
-  solution_ = solveSpectral(problem_, config_);
+  if (!have_start_) {
+    noSolution("no odometry");
+    return;
+  }
+  try {
+    solution_ = solveSpectral(problem_, config_);
+  } catch (const InsufficientData& too_little) {
+    noSolution(too_little.what());
+    return;
+  }
   if (online_) {
     for (const Pose& pose : online_->flush(problem_, *solution_)) emitPose(pose);
   } else {
@@ -96,6 +104,14 @@ void SpectralSlam::finish() {
   emitMap(solution_->beacons);
   setDiagnostic("solved_poses", solution_->solved_poses);
   setDiagnostic("state_scale", solution_->state_scale);
+  setState(EstimatorState::kFinished);
+}
+
+void SpectralSlam::noSolution(const std::string& reason) {
+  // Too little data is not a failure of the estimator: it ends without a solution (no
+  // TRAJECTORY, no MAP), and STATUS says why ("rejected data: spectral: needs ranges ...").
+  rejectInput("data", reason);
+  setDiagnostic("solved_poses", 0.0);
   setState(EstimatorState::kFinished);
 }
 

@@ -41,7 +41,8 @@ class SpectralSlam : public Estimator {
   void setBeacons(const Map& surveyed) override;
   void addOdometry(const Odometry& odometry) override;
   void addRange(const Range& range) override;
-  // Runs the batch solve; throws std::runtime_error if the data cannot be solved.
+  // Runs the batch solve. Data too thin to solve (fewer than 4 beacons, ...) end the run without
+  // a solution, counted as "data: <reason>" in the rejections; other errors throw.
   void finish() override;
   bool trajectory(bool force, Path* path) override;
 
@@ -56,6 +57,7 @@ class SpectralSlam : public Estimator {
  private:
   int beaconRow(int id);
   void startPath(const Pose& start);
+  void noSolution(const std::string& reason);
 
   SpectralConfig config_;
   SpectralProblem problem_;

@@ -191,15 +191,15 @@ Path assembleTrajectory(const OdometryPath& path, const std::vector<int>& poses,
 SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config) {
   const int N = static_cast<int>(problem.beacon_ids.size());
   const int T = problem.path.size();
-  if (T < 2) throw std::runtime_error("spectral: no odometry");
-  if (N < 4) throw std::runtime_error("spectral: needs ranges to >= 4 beacons, got " + std::to_string(N));
+  if (T < 2) throw InsufficientData("spectral: no odometry");
+  if (N < 4) throw InsufficientData("spectral: needs ranges to >= 4 beacons, got " + std::to_string(N));
   RangeInterpolator interpolator(N, interpolationConfig(config), problem.path.utime.front());
   const int windows = interpolator.windowsToCover(problem.path.utime.back());
   for (int w = 0; w < windows; ++w) interpolator.addWindow(w, problem.path, problem.ranges);
   const MeasurementMatrix measurements = measurementMatrix(interpolator, config.rank, 0, T);
   const int C = static_cast<int>(measurements.poses.size());
   if (C < 10)
-    throw std::runtime_error("spectral: only " + std::to_string(C) +
+    throw InsufficientData("spectral: only " + std::to_string(C) +
                              " poses have interpolated ranges to every beacon (need >= 10)");
   const LeftSvd svd = topLeftSvd(measurements.Y, config.rank);
   const Eigen::MatrixXd Yhat = svd.U * (svd.U.transpose() * measurements.Y);

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -63,7 +64,13 @@ UpgradedStates upgradeStates(const Eigen::MatrixXd& Yhat, const std::vector<int>
 Path assembleTrajectory(const OdometryPath& path, const std::vector<int>& poses,
                         const UpgradedStates& states, double heading_window_s);
 
-// Steps 1-4. Throws std::runtime_error with the reason if the data cannot be solved.
+// The data hold too little to solve (fewer than 4 beacons ranged, no odometry, too few poses
+// with every beacon interpolated): a property of the input, not an error of the estimator.
+struct InsufficientData : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Steps 1-4. Throws InsufficientData with the reason if the data cannot be solved.
 SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config);
 
 }  // namespace roam

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <set>
 #include <stdexcept>
 #include <tuple>
 
@@ -217,6 +218,33 @@ TEST(SpectralSlam, AnchorBeaconsWithoutSurveyFailsClearly) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(">= 4 surveyed beacons"), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+}  // namespace roam
+
+namespace roam {
+namespace {
+
+TEST(SpectralSlam, TooFewBeaconsEndsWithoutASolutionAndSaysWhy) {
+  // Three beacons cannot fix a rank-4 factorisation (C is N x 4): no solution, no failure.
+  sim::SimRun run = sim::simulate(figure1aWorld());
+  const std::set<int> first_three{run.beacons[0].id, run.beacons[1].id, run.beacons[2].id};
+  std::vector<Range> kept;
+  for (const Range& range : run.ranges)
+    if (first_three.count(range.beacon_id) > 0) kept.push_back(range);
+  ASSERT_LT(kept.size(), run.ranges.size());
+  run.ranges = kept;
+  SpectralConfig config;
+  config.anchor = SpectralAnchor::kStartPose;
+  SpectralSlam slam(config);
+  feed(slam, run, /*give_beacons=*/false);
+  ASSERT_NO_THROW(slam.finish());
+  EXPECT_EQ(slam.state(), EstimatorState::kFinished);
+  EXPECT_EQ(slam.lastRejection(), "data: spectral: needs ranges to >= 4 beacons, got 3");
+  EXPECT_FALSE(slam.solution().has_value());
+  Path path;
+  EXPECT_FALSE(slam.trajectory(true, &path));
 }
 
 }  // namespace
