@@ -17,6 +17,9 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
   o.add("anchor", &c->anchor, "gauge: start_pose | beacons").oneOf({"start_pose", "beacons"});
   o.add("seed_heading_window_s", &c->seed_heading_window_s,
         "init = spectral: seed headings from position chords of this length (0: spectral headings)").min(0.0);
+  o.add("seed_heading_align_m", &c->seed_heading_align_m,
+        "init = spectral: seed headings = odometry headings rotated onto the spectral positions over "
+        "this much travel (0: spectral headings)").min(0.0);
   o.add("odo_distance_sigma_rel", &c->odo_distance_sigma_rel, "odometry distance sigma per metre").min(0.0);
   o.add("odo_distance_sigma_m", &c->odo_distance_sigma_m, "odometry distance sigma floor per step").min(0.0, false);
   o.add("odo_heading_sigma_rel", &c->odo_heading_sigma_rel, "heading sigma per radian turned").min(0.0);
@@ -66,6 +69,7 @@ void validate(const SpectralBatchConfig& c) {
   if (!(c.odo_distance_sigma_m > 0.0)) fail("odo_distance_sigma_m > 0 (the floor keeps every step's weight finite)");
   if (!(c.odo_heading_sigma_rad > 0.0)) fail("odo_heading_sigma_rad > 0 (the floor keeps every step's weight finite)");
   if (!(c.seed_heading_window_s >= 0.0)) fail("seed_heading_window_s >= 0");
+  if (!(c.seed_heading_align_m >= 0.0)) fail("seed_heading_align_m >= 0");
   if (!(c.range_sigma_m > 0.0)) fail("range_sigma_m > 0");
   if (!(c.loss_scale >= 0.0)) fail("loss_scale >= 0");
   if (c.loss_anneal_stages < 1 || c.loss_anneal_stages > 10) fail("loss_anneal_stages in [1, 10]");

@@ -22,6 +22,14 @@ struct SpectralBatchConfig {
   // this many seconds centred on each pose (a ~4 m chord at 1 m/s averages 0.3 m position noise
   // down to ~0.1 rad).
   double seed_heading_window_s = 0.0;
+  // init = spectral, seed_heading_window_s = 0: > 0 (default) replaces the spectral headings by
+  // the dead-reckoned heading plus the rotation aligning dead reckoning to the spectral positions
+  // over this many metres of travel around each pose (initial_guess.hpp). The spectral headings
+  // are arbitrary where the robot stands still (Plaza 1 starts so: ~90 deg off at pose 0), and a
+  // seed whose headings contradict its own positions and the odometry starts the solve in a wrong
+  // basin. 10 m: ~0.3 m position noise over ~10 m of chord gives ~0.02 rad, while odometry
+  // heading drifts ~0.01 rad/sqrt(m) * sqrt(5 m) ~ 0.02 rad inside the window. 0: spectral headings.
+  double seed_heading_align_m = 10.0;
 
   // Odometry noise per step (the same model and defaults as the ekf plugin, so estimators are
   // compared on equal terms): sigma_d = rel d + floor along the track;

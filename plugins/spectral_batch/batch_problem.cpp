@@ -84,8 +84,12 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
   }
 
   // Gauge and calibration.
-  if (problem.fix_first_pose && num_poses > 0)
-    ceres_problem.SetParameterBlockConstant(state->poses[0].data());
+  if (problem.fix_first_pose && num_poses > 0) {
+    if (problem.fix_first_heading)
+      ceres_problem.SetParameterBlockConstant(state->poses[0].data());
+    else
+      ceres_problem.SetManifold(state->poses[0].data(), new ceres::SubsetManifold(3, {0, 1}));
+  }
   for (size_t j = 0; j < state->beacons.size(); ++j) {
     if (problem.beacon_fixed[j] && ceres_problem.HasParameterBlock(state->beacons[j].data()))
       ceres_problem.SetParameterBlockConstant(state->beacons[j].data());

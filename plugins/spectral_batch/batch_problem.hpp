@@ -34,6 +34,10 @@ struct Problem {
   std::vector<RangeObservation> ranges;
   std::vector<bool> beacon_fixed;  // one per beacon block
   bool fix_first_pose = true;
+  // With fix_first_pose: false holds only the first position. Rotation about pose 0 is then a
+  // gauge freedom (every residual is invariant under it when no beacon is fixed), so the solve
+  // keeps the rotation of its initial guess.
+  bool fix_first_heading = true;
 };
 
 // The unknowns, also the initial guess.

@@ -28,6 +28,16 @@ std::vector<std::array<double, 3>> deadReckon(const std::array<double, 3>& start
 void headingsFromChords(const std::vector<int64_t>& utime, double half_window_s, double min_chord_m,
                         std::vector<std::array<double, 3>>* poses);
 
+// Headings of a seed path made consistent with odometry: heading_k = dead-reckoned heading_k +
+// delta_k, where delta_k is the rotation that best aligns (least squares, centred) the
+// dead-reckoned positions to the seed positions over the poses within half_window_m of travelled
+// distance of pose k. A window in distance, not time, keeps the fit well posed while the robot
+// stands still (where the seed's own headings are arbitrary); over a window of L metres, position
+// noise sigma gives a rotation error of ~sigma / (L sqrt(n / 12)), and odometry heading drift
+// inside it stays small. Poses whose window spans no motion keep the seed heading. Unwrapped.
+void headingsFromOdometryAlignment(const std::vector<Odometry>& odometry, double half_window_m,
+                                   std::vector<std::array<double, 3>>* poses);
+
 // False if fewer than 3 ranges or the positions do not span the plane (relative rcond 1e-9).
 bool multilaterate(const std::vector<std::array<double, 2>>& positions_m,
                    const std::vector<double>& ranges_m, std::array<double, 2>* beacon_m);

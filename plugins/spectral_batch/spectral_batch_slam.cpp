@@ -133,10 +133,28 @@ std::vector<std::array<double, 3>> SpectralBatchSlam::initialPoses(bool final) {
       if (config_.seed_heading_window_s > 0.0) {
         batch::headingsFromChords(pose_utime_, 0.5 * config_.seed_heading_window_s,
                                   0.5 * config_.seed_heading_window_s * kMinSeedSpeed_mps, &poses);
+      } else if (config_.seed_heading_align_m > 0.0) {
+        batch::headingsFromOdometryAlignment(odometry_, 0.5 * config_.seed_heading_align_m, &poses);
       } else {
         // Unwrap the headings so each odometry residual starts from its small increment.
         for (size_t k = 1; k < poses.size(); ++k)
           poses[k][2] = poses[k - 1][2] + wrapAngle(poses[k][2] - poses[k - 1][2]);
+      }
+      if (config_.anchor == "start_pose") {
+        // Gauge: the solve fixes pose 0, and INITIAL_POSE defines it. The spectral path sits in
+        // the start-pose frame only up to its alignment over the first align_m of travel (its
+        // pose 0 is typically decimetres off, its heading there poorly determined while the robot
+        // stands still), so fixing the seed's own pose 0 would pin the whole solution to that
+        // error (a wrong pose-0 heading rotates everything about it). Translate the seed onto the
+        // start position (the rotation of the frame, fitted over align_m, is kept) and give pose 0
+        // the start heading; the odometry residuals reconcile the first steps.
+        const double dx_m = start_pose_[0] - poses[0][0], dy_m = start_pose_[1] - poses[0][1];
+        for (auto& pose : poses) {
+          pose[0] += dx_m;
+          pose[1] += dy_m;
+        }
+        poses[0][2] += wrapAngle(start_pose_[2] - poses[0][2]);
+        shifted_seed_m_ = {dx_m, dy_m};
       }
       setDiagnostic("init_spectral", 1.0);
       seeded_by_spectral_ = true;
@@ -216,7 +234,7 @@ void SpectralBatchSlam::solveNow(bool final) {
     if (!have && seeded_by_spectral) {
       for (const Beacon& b : spectral_map) {
         if (b.id == id && std::isfinite(b.x_m) && std::isfinite(b.y_m)) {
-          beacon = {b.x_m, b.y_m};
+          beacon = {b.x_m + shifted_seed_m_[0], b.y_m + shifted_seed_m_[1]};
           have = true;
         }
       }
@@ -253,6 +271,13 @@ void SpectralBatchSlam::solveNow(bool final) {
   }
   problem.odometry = odometry_;
   problem.fix_first_pose = config_.anchor == "start_pose";
+  // A spectral seed already carries the frame's rotation, fitted by the spectral core to the start
+  // pose and the first align_m of odometry (least squares over ~50 m, insensitive to the heading
+  // at a standing start). Pinning the single pose-0 heading instead lets early odometry heading
+  // errors (a 2 % turn error is degrees) rotate the whole solution about the start: on Plaza 1
+  // the pinned optimum is rotated ~6 deg, metres at the far end. So with a spectral seed only the
+  // start position is fixed and the rotation gauge stays where the seed put it.
+  problem.fix_first_heading = !seeded_by_spectral_;
   state.poses = std::move(poses);
   state.calibration = calibration_;
 

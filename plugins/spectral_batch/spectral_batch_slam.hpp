@@ -85,6 +85,7 @@ class SpectralBatchSlam : public Estimator {
   int64_t last_solve_utime_ = 0;
   bool new_solution_ = false;
   bool seeded_by_spectral_ = false;  // the solution descends from the spectral seed
+  std::array<double, 2> shifted_seed_m_{0.0, 0.0};  // translation applied to the spectral seed
   bool spectral_map_taken_ = false;
   int solves_ = 0;
   batch::Summary summary_;
