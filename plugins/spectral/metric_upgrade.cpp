@@ -100,8 +100,8 @@ BeaconUpgrade upgradeWithBeacons(const Eigen::MatrixXd& half_sq,
 
 Eigen::Matrix2Xd pathUpToSimilarity(const Eigen::MatrixXd& half_sq) {
   const Eigen::Index N = half_sq.rows(), T = half_sq.cols();
-  if (N < 4) throw std::runtime_error("anchor = start_pose needs >= 4 beacons");
-  if (T < 10) throw std::runtime_error("anchor = start_pose needs >= 10 poses with ranges");
+  if (N < 4) throw InsufficientData("anchor = start_pose needs >= 4 beacons");
+  if (T < 10) throw InsufficientData("anchor = start_pose needs >= 10 poses with ranges");
   // A basis W (4 x T) of the row space.
   Eigen::MatrixXd W(4, T);
   if (N == 4) {
@@ -121,7 +121,7 @@ Eigen::Matrix2Xd pathUpToSimilarity(const Eigen::MatrixXd& half_sq) {
   const Eigen::Vector3d mean = z.rowwise().mean();
   const Eigen::Matrix<double, 3, Eigen::Dynamic> centred = z.colwise() - mean;
   const double spread = std::sqrt(centred.squaredNorm() / static_cast<double>(T));
-  if (!(spread > 0.0)) throw std::runtime_error("anchor = start_pose: the robot did not move");
+  if (!(spread > 0.0)) throw InsufficientData("anchor = start_pose: the robot did not move");
   const Eigen::Matrix<double, 3, Eigen::Dynamic> zn = centred / spread;
 
   // Quadric through the points: monomials [z1^2, z2^2, z3^2, 2z1z2, 2z1z3, 2z2z3, z1, z2, z3, 1].
@@ -142,14 +142,19 @@ Eigen::Matrix2Xd pathUpToSimilarity(const Eigen::MatrixXd& half_sq) {
       gram.selfadjointView<Eigen::Lower>());
   const Eigen::Matrix<double, 10, 1> q = quadric.eigenvectors().col(0);  // smallest eigenvalue
   if (!(quadric.eigenvalues()(1) > 1e-9 * quadric.eigenvalues()(9)))
-    throw std::runtime_error(
-        "anchor = start_pose: the path does not fix the quadric (straight or degenerate path)");
+    throw InsufficientData(
+        "anchor = start_pose: the path does not fix the metric upgrade (a straight or degenerate path)");
   Eigen::Matrix3d Qm;
   Qm << q(0), q(3), q(4), q(3), q(1), q(5), q(4), q(5), q(2);
   if (Qm.trace() < 0.0) Qm = -Qm;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> rank2(Qm);
   const double l1 = rank2.eigenvalues()(2), l2 = rank2.eigenvalues()(1);
-  if (!(l2 > 0.0)) throw std::runtime_error("anchor = start_pose: the learned quadric is not a paraboloid");
+  // Poses on (or near) one circle: |p|^2 is then affine in p, the state factor loses a rank and
+  // the quadric through the learned states is not a paraboloid. The data cannot fix the upgrade.
+  if (!(l2 > 0.0))
+    throw InsufficientData(
+        "anchor = start_pose: the path does not fix the metric upgrade (the learned quadric is not a "
+        "paraboloid: poses on or near one circle?)");
   Eigen::Matrix<double, 2, 3> R;
   R.row(0) = std::sqrt(2.0 * l1) * rank2.eigenvectors().col(2).transpose();
   R.row(1) = std::sqrt(2.0 * l2) * rank2.eigenvectors().col(1).transpose();

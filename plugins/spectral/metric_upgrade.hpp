@@ -26,11 +26,20 @@
 #pragma once
 
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include <Eigen/Dense>
 
 namespace roam {
+
+// The data hold too little to solve (fewer than 4 beacons ranged, no odometry, too few poses
+// with every beacon interpolated) or a geometry that does not determine the solution (a path on
+// one circle or line with anchor = start_pose): a property of the input, not an error of the
+// estimator.
+struct InsufficientData : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 struct BeaconUpgrade {
   Eigen::Matrix2Xd xy_m;  // 2 x T positions

@@ -15,12 +15,21 @@ std::unique_ptr<roam::Estimator> makeSpectral(roam::Options& options) {
   options.add("mode", &mode, "batch (all at the end) or online (incremental SVD)").oneOf({"batch", "online"});
   options.add("window_s", &config.window_s, "interpolation window length (s); online latency")
       .min(0.0, false);
+  options.add("window_ranges_per_beacon", &config.window_ranges_per_beacon,
+              "batch: grow the window to hold this many ranges of the least-ranged beacon (0: fixed)")
+      .min(0.0);
+  options.add("window_max_factor", &config.window_max_factor, "batch: the grown window is at most this x window_s")
+      .min(1.0);
   options.add("window_overlap", &config.window_overlap, "fraction of a window shared with the next")
       .min(0.0).max(1.0, false);
   options.add("min_ranges_per_window", &config.min_ranges_per_window,
               "fewest ranges to a beacon for a window to model it").min(4);
   options.add("interpolation_rcond", &config.interpolation_rcond,
               "relative singular-value cut-off of a window's regression").min(0.0).max(1.0, false);
+  options.add("robust_interpolation", &config.robust_interpolation,
+              "Tukey-weighted window fits (outlier ranges drop out); false: plain least squares");
+  options.add("range_sigma_m", &config.range_sigma_m, "range noise (m): the robust fit's Huber scale")
+      .min(0.0, false);
   options.add("align_m", &config.align_m, "start_pose: metres of travel the path is aligned on")
       .min(0.0, false);
   options.add("max_step_m", &config.max_step_m, "odometry steps longer than this are rejected").min(0.0, false);

@@ -6,6 +6,73 @@
 #include <Eigen/Dense>
 
 namespace roam {
+namespace {
+
+Eigen::Vector4d solveLeastSquares(const Eigen::MatrixX4d& design, const Eigen::VectorXd& target, double rcond) {
+  Eigen::JacobiSVD<Eigen::MatrixX4d> svd(design, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  svd.setThreshold(rcond);
+  return svd.solve(target);
+}
+
+// One beacon's model theta . phi(p) of the half squared range over a window. Plain least squares
+// (the paper); then, if config.robust, an M-estimate on the residual in range units,
+// e = r - sqrt(2 theta . phi), by iteratively reweighted least squares in two stages:
+//   1. Huber, scale config.range_sigma_m (the sensor's stated noise), k = 1.345 sigma: convex, so
+//      IRLS reaches its unique minimum from the least-squares start however far outliers dragged
+//      that; each outlier's pull is bounded.
+//   2. Tukey's biweight from there, c = 4.685 s (95 % efficiency on Gaussian noise), with the scale
+//      s = 1.4826 median|e| of the Huber fit, at most config.range_sigma_m (a window whose Huber
+//      fit is still bent by outliers has an inflated median residual; the sensor's stated noise
+//      bounds it) and at least kMinScale_m (noise-free data keep every weight at one): ranges
+//      more than c off the model get weight zero.
+// A stage stops once its weights settle; a reweighting that would leave fewer than
+// config.min_ranges_per_window ranges with weight is not applied.
+Eigen::Vector4d fitWindowModel(const Eigen::MatrixX4d& design, const Eigen::VectorXd& target,
+                               const InterpolationConfig& config) {
+  constexpr int kIterations = 20;
+  constexpr double kHuberK = 1.345;
+  constexpr double kTukeyC = 4.685;
+  constexpr double kMinScale_m = 0.01;
+  Eigen::Vector4d theta = solveLeastSquares(design, target, config.rcond);
+  if (!config.robust) return theta;
+  const Eigen::Index n = design.rows();
+  const Eigen::ArrayXd range_m = (2.0 * target.array()).sqrt();
+  auto residuals_m = [&](const Eigen::Vector4d& model) {
+    return Eigen::ArrayXd(range_m - (2.0 * (design * model).array()).max(0.0).sqrt());
+  };
+  auto reweighted = [&](const Eigen::ArrayXd& w) {
+    const Eigen::ArrayXd root_w = w.sqrt();
+    return solveLeastSquares(root_w.matrix().asDiagonal() * design, (root_w * target.array()).matrix(),
+                             config.rcond);
+  };
+  for (int stage = 0; stage < 2; ++stage) {
+    double scale_m = config.range_sigma_m;
+    if (stage == 1) {
+      const Eigen::ArrayXd abs_e_m = residuals_m(theta).abs();
+      std::vector<double> abs_e(abs_e_m.data(), abs_e_m.data() + n);
+      std::nth_element(abs_e.begin(), abs_e.begin() + n / 2, abs_e.end());
+      scale_m = std::clamp(1.4826 * abs_e[n / 2], kMinScale_m, config.range_sigma_m);
+    }
+    Eigen::ArrayXd previous_w = Eigen::ArrayXd::Ones(n);
+    for (int iteration = 0; iteration < kIterations; ++iteration) {
+      const Eigen::ArrayXd abs_e_m = residuals_m(theta).abs();
+      Eigen::ArrayXd w;
+      if (stage == 0) {
+        w = (kHuberK * scale_m / abs_e_m.max(1e-300)).min(1.0);
+      } else {
+        const Eigen::ArrayXd u = abs_e_m / (kTukeyC * scale_m);
+        w = (u < 1.0).select((1.0 - u.square()).square(), 0.0);
+      }
+      if ((w > 0.0).count() < config.min_ranges_per_window) break;
+      theta = reweighted(w);
+      if ((w - previous_w).abs().maxCoeff() < 1e-6) break;
+      previous_w = w;
+    }
+  }
+  return theta;
+}
+
+}  // namespace
 
 RangeInterpolator::RangeInterpolator(int num_beacons, const InterpolationConfig& config,
                                      int64_t origin_utime)
@@ -93,9 +160,7 @@ void RangeInterpolator::addWindow(int window, const OdometryPath& path,
       design.row(i) = rows[i].transpose();
       target(i) = targets[i];
     }
-    Eigen::JacobiSVD<Eigen::MatrixX4d> svd(design, Eigen::ComputeThinU | Eigen::ComputeThinV);
-    svd.setThreshold(config_.rcond);
-    const Eigen::Vector4d theta = svd.solve(target);
+    const Eigen::Vector4d theta = fitWindowModel(design, target, config_);
 
     for (int k = path.lowerBound(first_us); k < end_pose && path.utime[k] <= last_us; ++k) {
       const double u = (path.x_m[k] - cx_m) / scale_m, v = (path.y_m[k] - cy_m) / scale_m;

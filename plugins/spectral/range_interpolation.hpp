@@ -35,6 +35,11 @@ struct InterpolationConfig {
   double window_overlap = 0.5;
   int min_ranges_per_window = 8;
   double rcond = 1e-3;
+  // Iteratively reweighted fit with Tukey's biweight on the range residual (scale from the
+  // median absolute residual), so that NLOS outliers, which read metres long, drop out of the
+  // window's model; false: the paper's plain least squares.
+  bool robust = true;
+  double range_sigma_m = 0.5;  // the robust fit's Huber scale
 };
 
 class RangeInterpolator {

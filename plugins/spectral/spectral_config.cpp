@@ -9,6 +9,10 @@ void SpectralConfig::validate() const {
   auto fail = [](const std::string& what) { throw std::invalid_argument("spectral: " + what); };
   if (rank != 4 && rank != 7) fail("rank must be 4 or 7, got " + std::to_string(rank));
   if (!(window_s > 0.0) || !std::isfinite(window_s)) fail("window_s must be > 0");
+  if (!(window_ranges_per_beacon >= 0.0) || !std::isfinite(window_ranges_per_beacon))
+    fail("window_ranges_per_beacon must be >= 0");
+  if (!(range_sigma_m > 0.0) || !std::isfinite(range_sigma_m)) fail("range_sigma_m must be > 0");
+  if (!(window_max_factor >= 1.0) || !std::isfinite(window_max_factor)) fail("window_max_factor must be >= 1");
   if (!(window_overlap >= 0.0 && window_overlap < 1.0)) fail("window_overlap must be in [0, 1)");
   if (min_ranges_per_window < 4)
     fail("min_ranges_per_window must be >= 4 (the model has 4 parameters)");

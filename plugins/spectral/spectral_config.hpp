@@ -30,12 +30,27 @@ struct SpectralConfig {
   // hold ~15; at walking speed that is ~30 m of travel, over which dead reckoning (1-2 % of
   // distance) stays at decimetres. Half-overlapping windows: every pose is averaged over two fits.
   double window_s = 30.0;
+  // The window grows to hold window_ranges_per_beacon ranges of the least-ranged beacon, at that
+  // beacon's mean rate over the run (N beacons sharing one round-robin radio each get 1/N of its
+  // rate: 8 beacons at 2 Hz need ~70 s), up to window_max_factor x window_s. 16 = twice
+  // min_ranges_per_window, the margin the 30 s default gives 4 beacons at 2 Hz. 0: fixed window_s.
+  // Batch solves only (online mode needs its window before the data arrive: window_s).
+  double window_ranges_per_beacon = 16.0;
+  double window_max_factor = 4.0;
   double window_overlap = 0.5;  // fraction of a window shared with the next, in [0, 1)
   // Fewest ranges to one beacon for a window to fit that beacon's model (2 per parameter).
   int min_ranges_per_window = 8;
   // Relative singular-value cut-off of a window's regression (features centred and scaled to
   // unit RMS radius): drops the direction a near-straight stretch does not determine.
   double interpolation_rcond = 1e-3;
+  // Robust per-window fit (Tukey's biweight, range_interpolation.hpp): UWB ranges through or
+  // around obstacles read metres long, and one such range bends a window's least-squares model
+  // for every pose in it. On Gaussian noise the biweight keeps 95 % of the efficiency; on
+  // noise-free data it is the least-squares fit. false: the paper's plain least squares.
+  bool robust_interpolation = true;
+  // Range noise (m) that scales the robust fit's first (Huber) stage: UWB's "a few tens of cm",
+  // the top of that band, as the ekf and online_em plugins assume.
+  double range_sigma_m = 0.5;
 
   // anchor = start_pose: distance travelled from the start over which the learned path is rotated
   // and translated onto dead reckoning from the start pose (scale and reflection come from the

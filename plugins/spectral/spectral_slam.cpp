@@ -104,6 +104,7 @@ void SpectralSlam::finish() {
   emitMap(solution_->beacons);
   setDiagnostic("solved_poses", solution_->solved_poses);
   setDiagnostic("state_scale", solution_->state_scale);
+  setDiagnostic("window_s", solution_->window_s);
   setState(EstimatorState::kFinished);
 }
 

@@ -55,6 +55,8 @@ InterpolationConfig interpolationConfig(const SpectralConfig& config) {
   out.window_overlap = config.window_overlap;
   out.min_ranges_per_window = config.min_ranges_per_window;
   out.rcond = config.interpolation_rcond;
+  out.robust = config.robust_interpolation;
+  out.range_sigma_m = config.range_sigma_m;
   return out;
 }
 
@@ -188,27 +190,72 @@ Path assembleTrajectory(const OdometryPath& path, const std::vector<int>& poses,
   return out;
 }
 
-SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config) {
+double effectiveWindowSeconds(const SpectralProblem& problem, const SpectralConfig& config) {
+  const int N = static_cast<int>(problem.beacon_ids.size());
+  const int T = problem.path.size();
+  if (config.window_ranges_per_beacon <= 0.0 || N == 0 || T < 2) return config.window_s;
+  const double duration_s = static_cast<double>(problem.path.utime.back() - problem.path.utime.front()) * 1e-6;
+  if (!(duration_s > 0.0)) return config.window_s;
+  std::vector<int> count(N, 0);
+  for (const RangeSample& r : problem.ranges) ++count[r.beacon];
+  const int fewest = *std::min_element(count.begin(), count.end());
+  if (fewest == 0) return config.window_s;
+  const double slowest_rate_hz = fewest / duration_s;
+  const double wanted_s = config.window_ranges_per_beacon / slowest_rate_hz;
+  return std::clamp(wanted_s, config.window_s, config.window_max_factor * config.window_s);
+}
+
+SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& given_config) {
   const int N = static_cast<int>(problem.beacon_ids.size());
   const int T = problem.path.size();
   if (T < 2) throw InsufficientData("spectral: no odometry");
   if (N < 4) throw InsufficientData("spectral: needs ranges to >= 4 beacons, got " + std::to_string(N));
+  SpectralConfig config = given_config;
+  config.window_s = effectiveWindowSeconds(problem, given_config);
   RangeInterpolator interpolator(N, interpolationConfig(config), problem.path.utime.front());
   const int windows = interpolator.windowsToCover(problem.path.utime.back());
   for (int w = 0; w < windows; ++w) interpolator.addWindow(w, problem.path, problem.ranges);
-  const MeasurementMatrix measurements = measurementMatrix(interpolator, config.rank, 0, T);
+  MeasurementMatrix measurements = measurementMatrix(interpolator, config.rank, 0, T);
   const int C = static_cast<int>(measurements.poses.size());
   if (C < 10)
     throw InsufficientData("spectral: only " + std::to_string(C) +
                              " poses have interpolated ranges to every beacon (need >= 10)");
-  const LeftSvd svd = topLeftSvd(measurements.Y, config.rank);
-  const Eigen::MatrixXd Yhat = svd.U * (svd.U.transpose() * measurements.Y);
+  LeftSvd svd = topLeftSvd(measurements.Y, config.rank);
+  Eigen::MatrixXd Yhat = svd.U * (svd.U.transpose() * measurements.Y);
+  if (config.robust_interpolation) {
+    // Trimmed refit: the SVD is one least-squares fit over every column, so a few columns that a
+    // window's model got wrong (too many outliers in it for the robust fit) bend U for all
+    // poses. Columns whose residual off the rank-k subspace is beyond kTrimFactor x the median
+    // residual are dropped (their poses are bridged like ranging gaps) and the SVD is refitted.
+    constexpr double kTrimFactor = 5.0;
+    const Eigen::VectorXd residual = (measurements.Y - Yhat).colwise().norm();
+    std::vector<double> sorted(residual.data(), residual.data() + C);
+    std::nth_element(sorted.begin(), sorted.begin() + C / 2, sorted.end());
+    // The floor keeps noise-free data (residuals at rounding level) from being trimmed.
+    const double floor = 1e-9 * measurements.Y.norm() / std::sqrt(static_cast<double>(C));
+    const double threshold = std::max(kTrimFactor * sorted[C / 2], floor);
+    std::vector<int> kept;
+    for (int j = 0; j < C; ++j)
+      if (residual(j) <= threshold) kept.push_back(j);
+    if (static_cast<int>(kept.size()) < C && kept.size() >= 10) {
+      MeasurementMatrix trimmed;
+      trimmed.Y.resize(measurements.Y.rows(), static_cast<Eigen::Index>(kept.size()));
+      for (size_t i = 0; i < kept.size(); ++i) {
+        trimmed.Y.col(static_cast<Eigen::Index>(i)) = measurements.Y.col(kept[i]);
+        trimmed.poses.push_back(measurements.poses[kept[i]]);
+      }
+      measurements = std::move(trimmed);
+      svd = topLeftSvd(measurements.Y, config.rank);
+      Yhat = svd.U * (svd.U.transpose() * measurements.Y);
+    }
+  }
   const UpgradedStates states = upgradeStates(Yhat, measurements.poses, problem, config);
 
   SpectralSolution solution;
   solution.trajectory = assembleTrajectory(problem.path, measurements.poses, states, config.window_s);
-  solution.solved_poses = C;
+  solution.solved_poses = static_cast<int>(measurements.poses.size());
   solution.state_scale = states.state_scale;
+  solution.window_s = config.window_s;
   for (int n = 0; n < N; ++n) {
     Beacon beacon;
     beacon.id = problem.beacon_ids[n];

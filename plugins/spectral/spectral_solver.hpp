@@ -13,7 +13,6 @@
 #pragma once
 
 #include <optional>
-#include <stdexcept>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -38,9 +37,15 @@ struct SpectralSolution {
   Map beacons;      // learned
   int solved_poses = 0;      // poses with every row of Y (the rest are bridged)
   double state_scale = 1.0;  // anchor = beacons: learned X[0] (kappa^2 for ranges scaled by kappa)
+  double window_s = 0.0;     // the interpolation window used (effectiveWindowSeconds)
 };
 
 InterpolationConfig interpolationConfig(const SpectralConfig& config);
+
+// The batch interpolation window: config.window_s, grown so that a window holds
+// config.window_ranges_per_beacon ranges of the least-ranged beacon at its mean rate over the
+// path's duration, capped at config.window_max_factor x config.window_s.
+double effectiveWindowSeconds(const SpectralProblem& problem, const SpectralConfig& config);
 
 // Columns of Y (step 1-2) for the poses in [first_pose, end_pose) where every row is known.
 struct MeasurementMatrix {
@@ -63,12 +68,6 @@ UpgradedStates upgradeStates(const Eigen::MatrixXd& Yhat, const std::vector<int>
 // Step 4 and headings: one pose per pose of the path.
 Path assembleTrajectory(const OdometryPath& path, const std::vector<int>& poses,
                         const UpgradedStates& states, double heading_window_s);
-
-// The data hold too little to solve (fewer than 4 beacons ranged, no odometry, too few poses
-// with every beacon interpolated): a property of the input, not an error of the estimator.
-struct InsufficientData : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 // Steps 1-4. Throws InsufficientData with the reason if the data cannot be solved.
 SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config);
