@@ -14,7 +14,7 @@ namespace plot {
 namespace {
 
 // Pixel margins around each panel's plotting frame: tick labels left and below, title above.
-constexpr double kPanelLeftPx = 58, kPanelRightPx = 14, kPanelTopPx = 26, kPanelBottomPx = 42;
+constexpr double kPanelLeftPx = 58, kPanelRightPx = 14, kPanelTopPx = 40, kPanelBottomPx = 42;
 constexpr double kOuterPx = 10;
 
 struct Box {
@@ -193,12 +193,12 @@ std::string pathsFigureSvg(const ResultLog& log, const std::vector<Series>& seri
       name.size_px = 14;
       name.bold = true;
       name.colour = series[i].colour;
-      svg.text(frame.left_px, frame.top_px - 8, series[i].name, name);
+      // Two lines, so that a long name never runs into the figure: name, then its error.
+      svg.text(frame.left_px, frame.top_px - 22, series[i].name, name);
       TextStyle detail;
       detail.size_px = 12;
-      detail.anchor = "end";
       detail.colour = "#444444";
-      svg.text(frame.left_px + frame.width_px, frame.top_px - 8, meanLabel(series[i].mean_error_m), detail);
+      svg.text(frame.left_px, frame.top_px - 6, meanLabel(series[i].mean_error_m), detail);
     }
   }
   return svg.str();
