@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include <Eigen/Dense>
@@ -14,8 +15,16 @@ namespace roam {
 namespace {
 
 // Normalises log-weights in place to weights summing to 1 (log-sum-exp).
-Eigen::ArrayXd normalise(const Eigen::ArrayXd& log_weight) {
-  Eigen::ArrayXd w = (log_weight - log_weight.maxCoeff()).exp();
+// Normalised weights from log weights. A NaN log weight (a likelihood that could not be
+// evaluated) counts as zero likelihood; if no particle has a finite log weight (every likelihood
+// underflowed or failed), the step carries no usable information: uniform weights, and
+// *degenerate is set so the step is counted.
+Eigen::ArrayXd normalise(const Eigen::ArrayXd& log_weight, bool* degenerate) {
+  const Eigen::ArrayXd lw = log_weight.isNaN().select(-std::numeric_limits<double>::infinity(), log_weight);
+  const double top = lw.maxCoeff();
+  *degenerate = !std::isfinite(top);
+  if (*degenerate) return Eigen::ArrayXd::Constant(lw.size(), 1.0 / static_cast<double>(lw.size()));
+  Eigen::ArrayXd w = (lw - top).exp();
   return w / w.sum();
 }
 
@@ -208,7 +217,9 @@ void OnlineEmSlam::addOdometry(const Odometry& odometry) {
     }
     observations.push_back(std::move(obs));
   }
-  weights_ = normalise(log_weight);
+  bool degenerate = false;
+  weights_ = normalise(log_weight, &degenerate);
+  if (degenerate) setDiagnostic("degenerate_weight_steps", ++degenerate_weight_steps_);
   if (!observations.empty()) {
     const double ess = 1.0 / weights_.square().sum();
     setDiagnostic("ess", ess);

@@ -128,6 +128,7 @@ class OnlineEmSlam : public Estimator {
   double sum_effective_predecessors_ = 0.0;
   int64_t smoothing_steps_ = 0;
   double min_ess_ = kNaN;
+  int64_t degenerate_weight_steps_ = 0;  // steps where no particle had a finite likelihood
 };
 
 }  // namespace roam
