@@ -8,10 +8,24 @@
 namespace roam {
 namespace {
 
+// Least squares with a relative singular-value cut-off, through the 4 x 4 normal matrix: its
+// eigenvalues are the squared singular values of the design, so the cut-off rcond on singular
+// values is rcond^2 on eigenvalues. The features are centred and scaled to unit RMS radius, so
+// squaring the condition number costs nothing that matters, and each (re)weighted solve is O(n)
+// instead of an n x 4 SVD.
 Eigen::Vector4d solveLeastSquares(const Eigen::MatrixX4d& design, const Eigen::VectorXd& target, double rcond) {
-  Eigen::JacobiSVD<Eigen::MatrixX4d> svd(design, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  svd.setThreshold(rcond);
-  return svd.solve(target);
+  const Eigen::Matrix4d normal = design.transpose() * design;
+  const Eigen::Vector4d projected = design.transpose() * target;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(normal);
+  const Eigen::Vector4d& lambda = eigen.eigenvalues();  // ascending
+  const double cut = rcond * rcond * lambda(3);
+  Eigen::Vector4d theta = Eigen::Vector4d::Zero();
+  for (int i = 0; i < 4; ++i) {
+    if (!(lambda(i) > cut)) continue;
+    const Eigen::Vector4d v = eigen.eigenvectors().col(i);
+    theta += v * (v.dot(projected) / lambda(i));
+  }
+  return theta;
 }
 
 // One beacon's model theta . phi(p) of the half squared range over a window. Plain least squares
@@ -29,7 +43,8 @@ Eigen::Vector4d solveLeastSquares(const Eigen::MatrixX4d& design, const Eigen::V
 // config.min_ranges_per_window ranges with weight is not applied.
 Eigen::Vector4d fitWindowModel(const Eigen::MatrixX4d& design, const Eigen::VectorXd& target,
                                const InterpolationConfig& config) {
-  constexpr int kIterations = 20;
+  constexpr int kIterations = 10;
+  constexpr double kSettled = 1e-3;  // largest weight change that counts as converged
   constexpr double kHuberK = 1.345;
   constexpr double kTukeyC = 4.685;
   constexpr double kMinScale_m = 0.01;
@@ -65,7 +80,7 @@ Eigen::Vector4d fitWindowModel(const Eigen::MatrixX4d& design, const Eigen::Vect
       }
       if ((w > 0.0).count() < config.min_ranges_per_window) break;
       theta = reweighted(w);
-      if ((w - previous_w).abs().maxCoeff() < 1e-6) break;
+      if ((w - previous_w).abs().maxCoeff() < kSettled) break;
       previous_w = w;
     }
   }

@@ -43,6 +43,16 @@ void BM_BatchSolve(benchmark::State& state) {
 }
 BENCHMARK(BM_BatchSolve)->Arg(4)->Arg(7)->Unit(benchmark::kMillisecond);
 
+// Baseline in the same run: the paper's plain least-squares window fits, no trimmed refit.
+void BM_BatchSolvePlainLeastSquares(benchmark::State& state) {
+  roam::SpectralConfig config;
+  config.rank = static_cast<int>(state.range(0));
+  config.robust_interpolation = false;
+  const roam::SpectralProblem problem = problemOf(plazaSized(), config);
+  for (auto _ : state) benchmark::DoNotOptimize(roam::solveSpectral(problem, config));
+}
+BENCHMARK(BM_BatchSolvePlainLeastSquares)->Arg(4)->Arg(7)->Unit(benchmark::kMillisecond);
+
 // Online mode: one odometry step (with its ranges); the mean over the whole run.
 void BM_OnlineStep(benchmark::State& state) {
   const auto& run = plazaSized();

@@ -289,7 +289,7 @@ TEST(SpectralSlam, RobustInterpolationKeepsOutliersOutOfThePath) {
   // sparseWorld() (4 beacons, 2 Hz round robin, 0.1 m noise) with 5 % and 10 % of the ranges read
   // 5-30 m long (NLOS-like). The robust window fits (Huber, then Tukey) and the trimmed SVD keep
   // most of them out; the paper's plain least squares lets each bend its window's model.
-  // Measured: clean 0.100 m robust vs 0.098 m plain; 5 %: 0.84 vs 3.9 m; 10 %: 2.1 vs 30 m. With
+  // Measured: clean 0.100 m robust vs 0.098 m plain; 5 %: 0.78 vs 3.9 m; 10 %: 2.2 vs 30 m. With
   // ~16 ranges per beacon per window (the default), a window that holds several outliers on a
   // near-straight lane still goes wrong (a 60 s window gives 0.21 m at 10 %). Bounds ~1.5x those.
   for (double fraction : {0.0, 0.05, 0.1}) {
