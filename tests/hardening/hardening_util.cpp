@@ -11,6 +11,7 @@
 
 #include "../runtime/test_util.hpp"
 #include "dataset_log.hpp"
+#include "result_log.hpp"
 #include "roam/estimator_status_t.hpp"
 #include "roam/messages.hpp"
 #include "roam/safe_decode.hpp"
@@ -85,16 +86,6 @@ std::string RunResult::summaryLine(const std::string& estimator) const {
 }
 
 namespace {
-
-const char* stateName(int8_t state) {
-  switch (state) {
-    case roam::estimator_status_t::INITIALIZING: return "initializing";
-    case roam::estimator_status_t::TRACKING: return "tracking";
-    case roam::estimator_status_t::FINISHED: return "finished";
-    case roam::estimator_status_t::FAILED: return "failed";
-  }
-  return "unknown";
-}
 
 void readResult(const fs::path& path, RunResult* result) {
   if (!fs::exists(path)) return;

@@ -23,6 +23,8 @@ bool decode(const lcm::LogEvent& event, Message* message) {
   return event.datalen >= 0 && decodeMessage(event.data, event.datalen, message) == event.datalen;
 }
 
+}  // namespace
+
 const char* stateName(int8_t state) {
   switch (state) {
     case roam::estimator_status_t::INITIALIZING: return "initializing";
@@ -33,7 +35,6 @@ const char* stateName(int8_t state) {
   return "unknown";
 }
 
-}  // namespace
 
 const EstimatorOutputs* ResultLog::find(const std::string& name_or_suffix) const {
   for (const auto& e : estimators) {

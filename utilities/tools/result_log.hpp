@@ -7,6 +7,7 @@
 // event at the end of the file. Other channels are ignored.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,6 +15,10 @@
 #include "roam/types.hpp"
 
 namespace roam {
+
+// The name of an estimator_status_t state ("initializing", "tracking", "finished", "failed";
+// "unknown" for any other value).
+const char* stateName(int8_t state);
 
 struct EstimatorOutputs {
   std::string suffix;             // channel suffix, e.g. "SPECTRAL"
