@@ -9,6 +9,7 @@
 #include <lcm/lcm-cpp.hpp>
 #include <sstream>
 
+#include "../runtime/small_world.hpp"
 #include "../runtime/test_util.hpp"
 #include "dataset_log.hpp"
 #include "result_log.hpp"
@@ -21,16 +22,10 @@ namespace roam {
 namespace hardening {
 
 Events cleanEvents() {
-  sim::SimConfig config;
-  config.seed = 7;
-  config.num_steps = 300;
-  config.schedule = sim::RangeSchedule::kRoundRobin;
-  config.odo_distance_sigma_rel = 0.02;
-  config.range_sigma_m = 0.1;
   // One folder per process: ctest runs the tests of this suite in parallel.
   const fs::path dir = testing_util::scratchDir("hardening_clean_" + std::to_string(getpid()));
   const fs::path path = dir / "clean.lcmlog";
-  writeDatasetLog(path.string(), sim::simulate(config));
+  writeDatasetLog(path.string(), sim::simulate(testing_util::smallWorld()));
   Events events;
   lcm::LogFile log(path.string(), "r");
   while (const lcm::LogEvent* event = log.readNextEvent()) {

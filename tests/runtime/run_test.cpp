@@ -8,6 +8,7 @@
 #include "dataset_log.hpp"
 #include "result_log.hpp"
 #include "sim.hpp"
+#include "small_world.hpp"
 #include "test_util.hpp"
 
 namespace roam {
@@ -23,14 +24,8 @@ constexpr double kPathTolerance_m = 1e-6;
 
 // A small synthetic run (lawn mower, 4 beacons, round-robin ranges) written as a log.
 fs::path writeSimLog(const fs::path& dir) {
-  sim::SimConfig config;
-  config.seed = 7;
-  config.num_steps = 300;
-  config.schedule = sim::RangeSchedule::kRoundRobin;
-  config.odo_distance_sigma_rel = 0.02;
-  config.range_sigma_m = 0.1;
   const fs::path log = dir / "sim.lcmlog";
-  writeDatasetLog(log.string(), sim::simulate(config));
+  writeDatasetLog(log.string(), sim::simulate(testing_util::smallWorld()));
   return log;
 }
 
