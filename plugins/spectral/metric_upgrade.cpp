@@ -265,7 +265,11 @@ Eigen::VectorXd headingsFromRangeRates(const Eigen::MatrixXd& range_rate,
   Eigen::MatrixXd C(N, 3);
   C.leftCols(2) = beacons_m.transpose();
   C.col(2).setOnes();
-  const Eigen::MatrixXd X = C.colPivHouseholderQr().solve(range_rate);  // [-cos; -sin; p.u]
+  // The least-squares solution is linear in the right-hand side: one N x N solve gives the 3 x N
+  // pseudo-inverse, then one product covers every pose.
+  const Eigen::MatrixXd pseudo_inverse =
+      C.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(N, N));
+  const Eigen::MatrixXd X = pseudo_inverse * range_rate;  // [-cos; -sin; p.u]
   Eigen::VectorXd heading(range_rate.cols());
   for (Eigen::Index t = 0; t < heading.size(); ++t) heading(t) = std::atan2(-X(1, t), -X(0, t));
   return heading;

@@ -10,15 +10,18 @@ void OdometryPath::reset(const Pose& start) {
   x_m.assign(1, start.x_m);
   y_m.assign(1, start.y_m);
   heading_rad.assign(1, start.heading_rad);
+  cos_heading.assign(1, std::cos(start.heading_rad));
+  sin_heading.assign(1, std::sin(start.heading_rad));
   step_m.clear();
   turn_rad.clear();
 }
 
 void OdometryPath::append(const Odometry& odometry) {
-  const double heading = heading_rad.back();
-  x_m.push_back(x_m.back() + odometry.delta_distance_m * std::cos(heading));
-  y_m.push_back(y_m.back() + odometry.delta_distance_m * std::sin(heading));
-  heading_rad.push_back(heading + odometry.delta_heading_rad);
+  x_m.push_back(x_m.back() + odometry.delta_distance_m * cos_heading.back());
+  y_m.push_back(y_m.back() + odometry.delta_distance_m * sin_heading.back());
+  heading_rad.push_back(heading_rad.back() + odometry.delta_heading_rad);
+  cos_heading.push_back(std::cos(heading_rad.back()));
+  sin_heading.push_back(std::sin(heading_rad.back()));
   utime.push_back(odometry.utime);
   step_m.push_back(odometry.delta_distance_m);
   turn_rad.push_back(odometry.delta_heading_rad);

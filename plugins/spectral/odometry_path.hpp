@@ -18,6 +18,7 @@ namespace roam {
 struct OdometryPath {
   std::vector<int64_t> utime;
   std::vector<double> x_m, y_m, heading_rad;
+  std::vector<double> cos_heading, sin_heading;  // of heading_rad, computed once per pose
   std::vector<double> step_m, turn_rad;  // odometry k: pose k -> k+1 (size = poses - 1)
 
   void reset(const Pose& start);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "thin_svd.hpp"
+
 namespace roam {
 namespace {
 
@@ -12,6 +14,8 @@ OdometryPath prefix(const OdometryPath& path, int poses) {
   out.x_m.assign(path.x_m.begin(), path.x_m.begin() + poses);
   out.y_m.assign(path.y_m.begin(), path.y_m.begin() + poses);
   out.heading_rad.assign(path.heading_rad.begin(), path.heading_rad.begin() + poses);
+  out.cos_heading.assign(path.cos_heading.begin(), path.cos_heading.begin() + poses);
+  out.sin_heading.assign(path.sin_heading.begin(), path.sin_heading.begin() + poses);
   out.step_m.assign(path.step_m.begin(), path.step_m.begin() + (poses - 1));
   out.turn_rad.assign(path.turn_rad.begin(), path.turn_rad.begin() + (poses - 1));
   return out;
@@ -74,7 +78,7 @@ std::vector<Pose> OnlineSpectral::publishUpTo(const SpectralProblem& problem, in
   Path solved;
   if (svd_.rank() == config_.rank && column_poses_.size() >= 10) {
     try {
-      const Eigen::MatrixXd Yhat = svd_.U() * (svd_.U().transpose() * columns_);
+      const Eigen::MatrixXd Yhat = lowRankProjection(svd_.U(), columns_);
       const UpgradedStates states = upgradeStates(Yhat, column_poses_, problem, config_);
       solved = assembleTrajectory(path, column_poses_, states, config_.window_s);
     } catch (const std::exception&) {
@@ -115,7 +119,7 @@ std::vector<Pose> OnlineSpectral::flush(const SpectralProblem& /*problem*/, cons
 Path OnlineSpectral::currentTrajectory(const SpectralProblem& problem) const {
   if (svd_.rank() != config_.rank || column_poses_.size() < 10) return {};
   const OdometryPath path = prefix(problem.path, final_end_);
-  const Eigen::MatrixXd Yhat = svd_.U() * (svd_.U().transpose() * columns_);
+  const Eigen::MatrixXd Yhat = lowRankProjection(svd_.U(), columns_);
   return assembleTrajectory(path, column_poses_, upgradeStates(Yhat, column_poses_, problem, config_),
                             config_.window_s);
 }

@@ -8,25 +8,70 @@
 namespace roam {
 namespace {
 
-// Least squares with a relative singular-value cut-off, through the 4 x 4 normal matrix: its
-// eigenvalues are the squared singular values of the design, so the cut-off rcond on singular
-// values is rcond^2 on eigenvalues. The features are centred and scaled to unit RMS radius, so
-// squaring the condition number costs nothing that matters, and each (re)weighted solve is O(n)
-// instead of an n x 4 SVD.
-Eigen::Vector4d solveLeastSquares(const Eigen::MatrixX4d& design, const Eigen::VectorXd& target, double rcond) {
-  const Eigen::Matrix4d normal = design.transpose() * design;
-  const Eigen::Vector4d projected = design.transpose() * target;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(normal);
-  const Eigen::Vector4d& lambda = eigen.eigenvalues();  // ascending
-  const double cut = rcond * rcond * lambda(3);
-  Eigen::Vector4d theta = Eigen::Vector4d::Zero();
-  for (int i = 0; i < 4; ++i) {
-    if (!(lambda(i) > cut)) continue;
-    const Eigen::Vector4d v = eigen.eigenvectors().col(i);
-    theta += v * (v.dot(projected) / lambda(i));
+// One window's ranges to one beacon: features phi(p) of the dead-reckoned positions in the
+// columns, targets d^2/2.
+using Features = Eigen::Matrix<double, 4, Eigen::Dynamic>;
+
+// The directions of theta the window's geometry determines: least squares with a relative
+// singular-value cut-off rcond on the design keeps the eigenvectors of the 4 x 4 normal matrix
+// (eigenvalues = squared singular values of the design) with eigenvalue > rcond^2 lambda_max.
+// The features are centred and scaled to unit RMS radius, so squaring the condition number costs
+// nothing that matters. Fast path, exact: lambda_max <= trace(N) and lambda_min >= 1/trace(N^-1),
+// so when 1/trace(N^-1) > rcond^2 trace(N) nothing is cut and the basis is the identity; only a
+// near-straight window pays for the eigen-decomposition.
+using Basis = Eigen::Matrix<double, 4, Eigen::Dynamic, 0, 4, 4>;
+Basis retainedBasis(const Eigen::Matrix4d& normal, double rcond) {
+  const double cut_ratio = rcond * rcond;
+  const Eigen::LLT<Eigen::Matrix4d> cholesky(normal);
+  if (cholesky.info() == Eigen::Success) {
+    const double trace_inverse = cholesky.solve(Eigen::Matrix4d::Identity()).trace();
+    if (std::isfinite(trace_inverse) && trace_inverse > 0.0 &&
+        1.0 > cut_ratio * normal.trace() * trace_inverse)
+      return Eigen::Matrix4d::Identity();
   }
-  return theta;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(normal);
+  const Eigen::Vector4d& lambda = eigen.eigenvalues();  // ascending
+  const double cut = cut_ratio * lambda(3);
+  Basis basis(4, 0);
+  for (int i = 3; i >= 0; --i) {
+    if (!(lambda(i) > cut)) break;
+    basis.conservativeResize(Eigen::NoChange, basis.cols() + 1);
+    basis.col(basis.cols() - 1) = eigen.eigenvectors().col(i);
+  }
+  return basis;
 }
+
+// Least squares restricted to span(basis): theta = B (B^T N B)^-1 B^T b. False if the weighted
+// normal matrix is singular on that span.
+bool solveInBasis(const Eigen::Matrix4d& normal, const Eigen::Vector4d& projected, const Basis& basis,
+                  Eigen::Vector4d* theta) {
+  using Reduced = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4>;
+  if (basis.cols() == 0) {
+    theta->setZero();
+    return true;
+  }
+  const Reduced reduced = basis.transpose() * normal * basis;
+  const Eigen::LLT<Reduced> cholesky(reduced);
+  if (cholesky.info() != Eigen::Success) return false;
+  const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 4, 1> coefficients =
+      cholesky.solve(basis.transpose() * projected);
+  *theta = basis * coefficients;
+  return theta->allFinite();
+}
+
+// Normal equations of a weighted fit, accumulated one range at a time.
+struct NormalEquations {
+  Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
+  Eigen::Vector4d projected = Eigen::Vector4d::Zero();
+  int weighted = 0;  // ranges with weight > 0
+  void add(const Eigen::Vector4d& phi, double target, double weight) {
+    if (weight == 0.0) return;
+    const Eigen::Vector4d weighted_phi = weight * phi;
+    normal.noalias() += weighted_phi * phi.transpose();
+    projected += weighted_phi * target;
+    ++weighted;
+  }
+};
 
 // One beacon's model theta . phi(p) of the half squared range over a window. Plain least squares
 // (the paper); then, if config.robust, an M-estimate on the residual in range units,
@@ -39,52 +84,67 @@ Eigen::Vector4d solveLeastSquares(const Eigen::MatrixX4d& design, const Eigen::V
 //      fit is still bent by outliers has an inflated median residual; the sensor's stated noise
 //      bounds it) and at least kMinScale_m (noise-free data keep every weight at one): ranges
 //      more than c off the model get weight zero.
-// A stage stops once its weights settle; a reweighting that would leave fewer than
-// config.min_ranges_per_window ranges with weight is not applied.
-Eigen::Vector4d fitWindowModel(const Eigen::MatrixX4d& design, const Eigen::VectorXd& target,
-                               const InterpolationConfig& config) {
+// False if the plain fit has no solution (the window is left out). A stage stops once its weights settle (weights identical to those the model was solved with
+// are not solved again: that would return the same model); a reweighting that would leave
+// fewer than config.min_ranges_per_window ranges with weight is not applied. The reweighted fits
+// stay in the directions the window's geometry determines (retainedBasis of the unweighted fit).
+// Each iteration is one pass over the ranges (residual, weight and normal equations together)
+// and a Cholesky solve of at most 4 x 4.
+bool fitWindowModel(const Features& phi, const Eigen::VectorXd& target, const InterpolationConfig& config,
+                    Eigen::Vector4d* model) {
   constexpr int kIterations = 10;
   constexpr double kSettled = 1e-3;  // largest weight change that counts as converged
   constexpr double kHuberK = 1.345;
   constexpr double kTukeyC = 4.685;
   constexpr double kMinScale_m = 0.01;
-  Eigen::Vector4d theta = solveLeastSquares(design, target, config.rcond);
-  if (!config.robust) return theta;
-  const Eigen::Index n = design.rows();
-  const Eigen::ArrayXd range_m = (2.0 * target.array()).sqrt();
-  auto residuals_m = [&](const Eigen::Vector4d& model) {
-    return Eigen::ArrayXd(range_m - (2.0 * (design * model).array()).max(0.0).sqrt());
-  };
-  auto reweighted = [&](const Eigen::ArrayXd& w) {
-    const Eigen::ArrayXd root_w = w.sqrt();
-    return solveLeastSquares(root_w.matrix().asDiagonal() * design, (root_w * target.array()).matrix(),
-                             config.rcond);
+  const int n = static_cast<int>(phi.cols());
+  NormalEquations plain;
+  for (int i = 0; i < n; ++i) plain.add(phi.col(i), target(i), 1.0);
+  const Basis basis = retainedBasis(plain.normal, config.rcond);
+  Eigen::Vector4d& theta = *model;
+  if (!solveInBasis(plain.normal, plain.projected, basis, &theta)) return false;
+  if (!config.robust) return true;
+
+  std::vector<double> range_m(n), model_w(n, 1.0), previous_w(n), w(n), abs_e(n);
+  for (int i = 0; i < n; ++i) range_m[i] = std::sqrt(2.0 * target(i));
+  auto abs_residual_m = [&](int i) {
+    return std::abs(range_m[i] - std::sqrt(std::max(0.0, 2.0 * theta.dot(phi.col(i)))));
   };
   for (int stage = 0; stage < 2; ++stage) {
     double scale_m = config.range_sigma_m;
     if (stage == 1) {
-      const Eigen::ArrayXd abs_e_m = residuals_m(theta).abs();
-      std::vector<double> abs_e(abs_e_m.data(), abs_e_m.data() + n);
+      for (int i = 0; i < n; ++i) abs_e[i] = abs_residual_m(i);
       std::nth_element(abs_e.begin(), abs_e.begin() + n / 2, abs_e.end());
       scale_m = std::clamp(1.4826 * abs_e[n / 2], kMinScale_m, config.range_sigma_m);
     }
-    Eigen::ArrayXd previous_w = Eigen::ArrayXd::Ones(n);
+    std::fill(previous_w.begin(), previous_w.end(), 1.0);
     for (int iteration = 0; iteration < kIterations; ++iteration) {
-      const Eigen::ArrayXd abs_e_m = residuals_m(theta).abs();
-      Eigen::ArrayXd w;
-      if (stage == 0) {
-        w = (kHuberK * scale_m / abs_e_m.max(1e-300)).min(1.0);
-      } else {
-        const Eigen::ArrayXd u = abs_e_m / (kTukeyC * scale_m);
-        w = (u < 1.0).select((1.0 - u.square()).square(), 0.0);
+      NormalEquations reweighted;
+      bool same_as_model = true;
+      double change = 0.0;
+      for (int i = 0; i < n; ++i) {
+        const double e_m = abs_residual_m(i);
+        if (stage == 0) {
+          w[i] = std::min(1.0, kHuberK * scale_m / std::max(e_m, 1e-300));
+        } else {
+          const double u = e_m / (kTukeyC * scale_m);
+          w[i] = u < 1.0 ? (1.0 - u * u) * (1.0 - u * u) : 0.0;
+        }
+        same_as_model = same_as_model && w[i] == model_w[i];
+        change = std::max(change, std::abs(w[i] - previous_w[i]));
+        reweighted.add(phi.col(i), target(i), w[i]);
       }
-      if ((w > 0.0).count() < config.min_ranges_per_window) break;
-      theta = reweighted(w);
-      if ((w - previous_w).abs().maxCoeff() < kSettled) break;
+      if (reweighted.weighted < config.min_ranges_per_window) break;
+      if (same_as_model) break;  // theta is already the solution with these weights
+      Eigen::Vector4d solved;
+      if (!solveInBasis(reweighted.normal, reweighted.projected, basis, &solved)) break;
+      theta = solved;
+      model_w = w;
+      if (change < kSettled) break;
       previous_w = w;
     }
   }
-  return theta;
+  return true;
 }
 
 }  // namespace
@@ -155,27 +215,34 @@ void RangeInterpolator::addWindow(int window, const OdometryPath& path,
   const auto lo = std::lower_bound(ranges.begin(), ranges.end(), begin_us, by_time);
   const auto hi = std::lower_bound(ranges.begin(), ranges.end(), end_us + 1, by_time);
 
-  for (int n = 0; n < num_beacons_; ++n) {
-    std::vector<Eigen::Vector4d> rows;
-    std::vector<double> targets;
+  // One pass over the window's ranges, bucketed by beacon.
+  struct Bucket {
+    std::vector<Eigen::Vector4d> features;
+    std::vector<double> half_sq;
     int64_t first_us = 0, last_us = 0;
-    for (auto it = lo; it != hi; ++it) {
-      if (it->beacon != n) continue;
-      double x_m, y_m;
-      if (!path.positionAt(it->utime, &x_m, &y_m)) continue;
-      if (rows.empty()) first_us = it->utime;
-      last_us = it->utime;
-      rows.push_back(features(x_m, y_m));
-      targets.push_back(0.5 * it->range_m * it->range_m);
-    }
-    if (static_cast<int>(rows.size()) < config_.min_ranges_per_window) continue;
-    Eigen::MatrixX4d design(rows.size(), 4);
-    Eigen::VectorXd target(rows.size());
-    for (size_t i = 0; i < rows.size(); ++i) {
-      design.row(i) = rows[i].transpose();
-      target(i) = targets[i];
-    }
-    const Eigen::Vector4d theta = fitWindowModel(design, target, config_);
+  };
+  std::vector<Bucket> buckets(num_beacons_);
+  for (auto it = lo; it != hi; ++it) {
+    if (it->beacon < 0 || it->beacon >= num_beacons_) continue;
+    double x_m, y_m;
+    if (!path.positionAt(it->utime, &x_m, &y_m)) continue;
+    Bucket& bucket = buckets[it->beacon];
+    if (bucket.features.empty()) bucket.first_us = it->utime;
+    bucket.last_us = it->utime;
+    bucket.features.push_back(features(x_m, y_m));
+    bucket.half_sq.push_back(0.5 * it->range_m * it->range_m);
+  }
+
+  for (int n = 0; n < num_beacons_; ++n) {
+    const Bucket& bucket = buckets[n];
+    const int count = static_cast<int>(bucket.features.size());
+    if (count < config_.min_ranges_per_window) continue;
+    Features phi(4, count);
+    for (int i = 0; i < count; ++i) phi.col(i) = bucket.features[i];
+    const Eigen::VectorXd target = Eigen::Map<const Eigen::VectorXd>(bucket.half_sq.data(), count);
+    Eigen::Vector4d theta;
+    if (!fitWindowModel(phi, target, config_, &theta)) continue;
+    const int64_t first_us = bucket.first_us, last_us = bucket.last_us;
 
     for (int k = path.lowerBound(first_us); k < end_pose && path.utime[k] <= last_us; ++k) {
       const double u = (path.x_m[k] - cx_m) / scale_m, v = (path.y_m[k] - cy_m) / scale_m;
@@ -183,7 +250,7 @@ void RangeInterpolator::addWindow(int window, const OdometryPath& path,
       // d/dp of theta . phi(p): (1/scale) * (-theta1 + theta3 u, -theta2 + theta3 v).
       const double gx = (-theta(1) + theta(3) * u) / scale_m;
       const double gy = (-theta(2) + theta(3) * v) / scale_m;
-      const double rate = gx * std::cos(path.heading_rad[k]) + gy * std::sin(path.heading_rad[k]);
+      const double rate = gx * path.cos_heading[k] + gy * path.sin_heading[k];
       sum_half_sq_[n][k] += half_sq;
       sum_rate_[n][k] += rate;
       ++count_[n][k];

@@ -65,19 +65,23 @@ MeasurementMatrix measurementMatrix(const RangeInterpolator& interpolator, int r
   const int N = interpolator.numBeacons();
   const int rows = rank == 7 ? 2 * N : N;
   MeasurementMatrix out;
-  std::vector<double> column(rows);
-  std::vector<double> values;
-  for (int k = first_pose; k < end_pose; ++k) {
-    bool complete = true;
-    for (int n = 0; n < N && complete; ++n) {
-      complete = interpolator.halfSquaredRange(n, k, &column[n]);
-      if (complete && rank == 7) complete = interpolator.rangeRate(n, k, &column[N + n]);
+  auto complete = [&](int k) {
+    double value;
+    for (int n = 0; n < N; ++n) {
+      if (!interpolator.halfSquaredRange(n, k, &value)) return false;
+      if (rank == 7 && !interpolator.rangeRate(n, k, &value)) return false;
     }
-    if (!complete) continue;
-    out.poses.push_back(k);
-    values.insert(values.end(), column.begin(), column.end());
+    return true;
+  };
+  for (int k = first_pose; k < end_pose; ++k)
+    if (complete(k)) out.poses.push_back(k);
+  out.Y.resize(rows, static_cast<Eigen::Index>(out.poses.size()));
+  for (size_t j = 0; j < out.poses.size(); ++j) {
+    for (int n = 0; n < N; ++n) {
+      interpolator.halfSquaredRange(n, out.poses[j], &out.Y(n, j));
+      if (rank == 7) interpolator.rangeRate(n, out.poses[j], &out.Y(N + n, j));
+    }
   }
-  out.Y = Eigen::Map<Eigen::MatrixXd>(values.data(), rows, static_cast<Eigen::Index>(out.poses.size()));
   return out;
 }
 
@@ -221,14 +225,13 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
     throw InsufficientData("spectral: only " + std::to_string(C) +
                              " poses have interpolated ranges to every beacon (need >= 10)");
   LeftSvd svd = topLeftSvd(measurements.Y, config.rank);
-  Eigen::MatrixXd Yhat = svd.U * (svd.U.transpose() * measurements.Y);
   if (config.robust_interpolation) {
     // Trimmed refit: the SVD is one least-squares fit over every column, so a few columns that a
     // window's model got wrong (too many outliers in it for the robust fit) bend U for all
     // poses. Columns whose residual off the rank-k subspace is beyond kTrimFactor x the median
     // residual are dropped (their poses are bridged like ranging gaps) and the SVD is refitted.
     constexpr double kTrimFactor = 5.0;
-    const Eigen::VectorXd residual = (measurements.Y - Yhat).colwise().norm();
+    const Eigen::VectorXd residual = residualNorms(svd.U, measurements.Y);
     std::vector<double> sorted(residual.data(), residual.data() + C);
     std::nth_element(sorted.begin(), sorted.begin() + C / 2, sorted.end());
     // The floor keeps noise-free data (residuals at rounding level) from being trimmed.
@@ -238,17 +241,17 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
     for (int j = 0; j < C; ++j)
       if (residual(j) <= threshold) kept.push_back(j);
     if (static_cast<int>(kept.size()) < C && kept.size() >= 10) {
-      MeasurementMatrix trimmed;
-      trimmed.Y.resize(measurements.Y.rows(), static_cast<Eigen::Index>(kept.size()));
+      // Keep the columns in place, in order.
       for (size_t i = 0; i < kept.size(); ++i) {
-        trimmed.Y.col(static_cast<Eigen::Index>(i)) = measurements.Y.col(kept[i]);
-        trimmed.poses.push_back(measurements.poses[kept[i]]);
+        measurements.Y.col(static_cast<Eigen::Index>(i)) = measurements.Y.col(kept[i]);
+        measurements.poses[i] = measurements.poses[kept[i]];
       }
-      measurements = std::move(trimmed);
+      measurements.poses.resize(kept.size());
+      measurements.Y.conservativeResize(Eigen::NoChange, static_cast<Eigen::Index>(kept.size()));
       svd = topLeftSvd(measurements.Y, config.rank);
-      Yhat = svd.U * (svd.U.transpose() * measurements.Y);
     }
   }
+  const Eigen::MatrixXd Yhat = lowRankProjection(svd.U, measurements.Y);
   const UpgradedStates states = upgradeStates(Yhat, measurements.poses, problem, config);
 
   SpectralSolution solution;

@@ -21,4 +21,10 @@ LeftSvd topLeftSvd(const Eigen::MatrixXd& Y, int k);
 // Same from a precomputed Gram matrix Y Y^T.
 LeftSvd topLeftSvdFromGram(const Eigen::MatrixXd& gram, int k);
 
+// The rank-k reconstruction U (U^T Y), one column at a time: the inner dimensions are only k and
+// rows, where a blocked GEMM spends its time packing, zeroing and allocating temporaries.
+Eigen::MatrixXd lowRankProjection(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y);
+// The norm of each column's residual off span(U), |y_j - U U^T y_j|, without forming U U^T Y.
+Eigen::VectorXd residualNorms(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y);
+
 }  // namespace roam

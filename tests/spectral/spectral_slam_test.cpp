@@ -66,7 +66,9 @@ TEST_P(NoiseFreeRecovery, RecoversPathHeadingsAndBeaconsExactly) {
   ASSERT_EQ(map.size(), 6u);
   EXPECT_LT(maxBeaconError(map, run.beacons), kExactTolerance_m);
   // Unbiased ranges: the learned first row of X is one.
-  if (config.anchor == SpectralAnchor::kBeacons) EXPECT_NEAR(slam.solution()->state_scale, 1.0, 1e-9);
+  if (config.anchor == SpectralAnchor::kBeacons) {
+    EXPECT_NEAR(slam.solution()->state_scale, 1.0, 1e-9);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(RanksAndAnchors, NoiseFreeRecovery,
