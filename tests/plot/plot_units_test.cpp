@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "loglog_figure.hpp"
 #include "paths_figure.hpp"
 #include "plot_axes.hpp"
 #include "svg_writer.hpp"
@@ -75,6 +76,53 @@ TEST(SvgWriter, EscapesTextAndBalancesGroups) {
   SvgWriter open(10, 10);
   open.openGroup();
   EXPECT_THROW(open.str(), std::logic_error);
+}
+
+}  // namespace
+
+namespace {
+
+int count(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+TEST(LogLogFigure, TickLabelsAreCompact) {
+  EXPECT_EQ(roam::plot::logTickLabel(1000.0), "1000");
+  EXPECT_EQ(roam::plot::logTickLabel(0.01), "0.01");
+  EXPECT_EQ(roam::plot::logTickLabel(1e6), "1e+06");
+}
+
+TEST(LogLogFigure, DrawsEverySeriesWithPointsOnDecades) {
+  roam::plot::LogLogFigure figure;
+  figure.title = "t";
+  roam::plot::LogLogSeries a, b, empty;
+  a.name = "a";
+  a.x = {10, 100, 1000};
+  a.y = {1, 0.1, 0.01};
+  b.name = "b";
+  b.x = {10, 1000};
+  b.y = {2, 0.02};
+  b.markers = false;
+  empty.name = "nothing positive";
+  empty.x = {-1};
+  empty.y = {1};
+  figure.series = {a, b, empty};
+  const std::string svg = roam::plot::logLogFigureSvg(figure);
+  EXPECT_EQ(count(svg, "<polyline"), 2);
+  EXPECT_EQ(count(svg, "<circle"), 3);  // a's markers only
+  // The x axis spans whole decades 10..1000, the y axis 0.01..10: labels at each.
+  for (const char* label : {">10<", ">100<", ">1000<", ">0.01<", ">0.1<", ">1<"}) EXPECT_NE(svg.find(label), std::string::npos) << label;
+}
+
+TEST(LogLogFigure, RefusesAFigureWithNoUsablePoint) {
+  roam::plot::LogLogFigure figure;
+  roam::plot::LogLogSeries s;
+  s.x = {0, 1};
+  s.y = {1, -1};
+  figure.series = {s};
+  EXPECT_THROW(roam::plot::logLogFigureSvg(figure), std::invalid_argument);
 }
 
 }  // namespace
