@@ -104,11 +104,12 @@ std::string logLogFigureSvg(const LogLogFigure& figure) {
     item.label = s.name;
     legend.push_back(item);
   }
-  // The legend in a white box at the top right of the frame.
-  const double legend_x = kLeftPx + plot_w * 0.45;
-  const double bottom = drawLegend(nullptr, legend, legend_x + 8, kTopPx + 22, kLeftPx + plot_w - 8);
-  svg.rect(legend_x, kTopPx + 6, plot_w * 0.55 - 6, bottom - kTopPx - 12, "#ffffff", Stroke("#bbbbbb", 1.0));
-  drawLegend(&svg, legend, legend_x + 8, kTopPx + 22, kLeftPx + plot_w - 8);
+  // The legend in a white box at the top right (or top left) of the frame.
+  const double legend_x = figure.legend_top_left ? kLeftPx + 6 : kLeftPx + plot_w * 0.45;
+  const double legend_w = plot_w * 0.55 - 6, legend_right = legend_x + legend_w + 6 - 8;
+  const double bottom = drawLegend(nullptr, legend, legend_x + 8, kTopPx + 22, legend_right);
+  svg.rect(legend_x, kTopPx + 6, legend_w, bottom - kTopPx - 12, "#ffffff", Stroke("#bbbbbb", 1.0));
+  drawLegend(&svg, legend, legend_x + 8, kTopPx + 22, legend_right);
   return svg.str();
 }
 

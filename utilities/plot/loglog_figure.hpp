@@ -20,6 +20,8 @@ struct LogLogFigure {
   std::string title, x_label, y_label;
   int width_px = 860, height_px = 560;
   std::vector<LogLogSeries> series;
+  bool legend_top_left = false;  // the legend box at the top left instead of the top right
+                                 // (series rising to the right: times against problem size)
 };
 
 // The figure as an SVG document. Throws std::invalid_argument if no series has a usable point.
