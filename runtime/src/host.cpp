@@ -60,10 +60,15 @@ bool Host::acceptInOrder(const std::string& channel, int64_t utime, const void* 
 void Host::onEvent(const std::string& channel, int64_t event_utime, const void* data, int size) {
   ++counters_.events;
   if (input_sink_ != nullptr) input_sink_->write(channel, event_utime, data, size);
+  cpu_before_.resize(estimators_.size());
+  for (size_t i = 0; i < estimators_.size(); ++i) {
+    cpu_before_[i] = estimators_[i].instance->failed() ? -1.0 : estimators_[i].instance->cpuTotalSeconds();
+  }
+  CpuHistogram EstimatorSlot::*update = nullptr;  // the per-update statistics this event counts in
   if (channel == config_.odometry_channel) {
-    feedOdometry(data, size);
+    if (feedOdometry(data, size)) update = &EstimatorSlot::odometry_cpu;
   } else if (channel == config_.range_channel) {
-    feedRange(data, size);
+    if (feedRange(data, size)) update = &EstimatorSlot::range_cpu;
   } else if (channel == config_.initial_pose_channel) {
     feedInitialPose(data, size);
   } else if (channel == config_.beacons_channel) {
@@ -72,6 +77,11 @@ void Host::onEvent(const std::string& channel, int64_t event_utime, const void* 
     return;  // GROUND_TRUTH and anything else: not for the estimators
   }
   for (auto& slot : estimators_) publishOutputs(slot, false);
+  if (update == nullptr) return;
+  for (size_t i = 0; i < estimators_.size(); ++i) {
+    if (cpu_before_[i] < 0.0) continue;  // failed before this event: it got nothing
+    (estimators_[i].*update).add(estimators_[i].instance->cpuTotalSeconds() - cpu_before_[i]);
+  }
 }
 
 namespace {
@@ -81,14 +91,14 @@ bool decode(const void* data, int size, Message* message) {
 }
 }  // namespace
 
-void Host::feedOdometry(const void* data, int size) {
+bool Host::feedOdometry(const void* data, int size) {
   roam::odometry_t message;
   if (!decode(data, size, &message)) {
     ++counters_.undecodable;
     ++counters_.undecodable_by_channel[config_.odometry_channel];
-    return;
+    return false;
   }
-  if (!acceptInOrder(config_.odometry_channel, message.utime, data, size)) return;
+  if (!acceptInOrder(config_.odometry_channel, message.utime, data, size)) return false;
   ++counters_.odometry;
   if (last_odometry_utime_ != INT64_MIN &&
       secondsBetween(message.utime, last_odometry_utime_) > config_.max_odometry_gap_s) {
@@ -97,19 +107,21 @@ void Host::feedOdometry(const void* data, int size) {
   last_odometry_utime_ = message.utime;
   const roam_odometry odometry = shim::toC(fromMessage(message));
   for (auto& slot : estimators_) slot.instance->addOdometry(odometry);
+  return true;
 }
 
-void Host::feedRange(const void* data, int size) {
+bool Host::feedRange(const void* data, int size) {
   roam::range_t message;
   if (!decode(data, size, &message)) {
     ++counters_.undecodable;
     ++counters_.undecodable_by_channel[config_.range_channel];
-    return;
+    return false;
   }
-  if (!acceptInOrder(config_.range_channel, message.utime, data, size)) return;
+  if (!acceptInOrder(config_.range_channel, message.utime, data, size)) return false;
   ++counters_.ranges;
   const roam_range range = shim::toC(fromMessage(message));
   for (auto& slot : estimators_) slot.instance->addRange(range);
+  return true;
 }
 
 void Host::feedInitialPose(const void* data, int size) {
@@ -232,9 +244,11 @@ void Host::maybeRequestTrajectories() {
 
 void Host::finish() {
   for (auto& slot : estimators_) {
+    const double before_s = slot.instance->cpuTotalSeconds();
     if (!slot.instance->failed()) slot.instance->finish();
     publishOutputs(slot, false);
     publishTrajectory(slot, true);
+    slot.finish_cpu_s = slot.instance->cpuTotalSeconds() - before_s;
     publishStatus(slot);
   }
 }
@@ -244,6 +258,34 @@ bool Host::anyFailed() const {
     if (slot.instance->failed()) return true;
   }
   return false;
+}
+
+namespace {
+// "812 ns", "3.41 us", "12.0 ms", "1.52 s": three significant figures.
+std::string duration(double seconds) {
+  static const std::pair<double, const char*> units[] = {{1.0, "s"}, {1e-3, "ms"}, {1e-6, "us"}, {1e-9, "ns"}};
+  for (const auto& [scale, unit] : units) {
+    if (seconds >= scale || scale == 1e-9) {
+      const double value = seconds / scale;
+      char text[32];
+      std::snprintf(text, sizeof text, value >= 100.0 ? "%.0f %s" : value >= 10.0 ? "%.1f %s" : "%.2f %s", value, unit);
+      return text;
+    }
+  }
+  return "";
+}
+
+std::string updateStats(const char* what, const CpuHistogram& cpu) {
+  if (cpu.count() == 0) return std::string(what) + " -";
+  return std::string(what) + " median " + duration(cpu.quantile(0.5)) + ", p99 " + duration(cpu.quantile(0.99)) +
+         ", max " + duration(cpu.max_s()) + " (" + std::to_string(cpu.count()) + ")";
+}
+}  // namespace
+
+// "  cpu per update: odometry median 2.10 us, p99 8.40 us, max 31.0 us (9657); range …; finish 0.512 s"
+std::string Host::cpuPerUpdateLine(const EstimatorSlot& slot) {
+  return "  cpu per update: " + updateStats("odometry", slot.odometry_cpu) + "; " +
+         updateStats("range", slot.range_cpu) + "; finish " + duration(slot.finish_cpu_s);
 }
 
 std::vector<std::string> Host::summary() const {
@@ -265,6 +307,7 @@ std::vector<std::string> Host::summary() const {
     if (!status.last_rejection.empty()) text += "  (last rejection: " + status.last_rejection + ")";
     if (slot.instance->failed()) text += "  error: " + slot.instance->error();
     lines.push_back(text);
+    lines.push_back(cpuPerUpdateLine(slot));
   }
   std::ostringstream input;
   input << "input: " << counters_.events << " events, " << counters_.odometry << " odometry, "

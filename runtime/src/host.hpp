@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "config.hpp"
+#include "cpu_histogram.hpp"
 #include "plugin_library.hpp"
 
 namespace roam {
@@ -32,6 +33,10 @@ struct EstimatorSlot {
   int64_t last_status_utime = INT64_MIN;
   int64_t last_trajectory_utime = INT64_MIN;
   bool failure_reported = false;
+  // CPU inside the plugin per update: one input message fed to it and the outputs polled after
+  // it; and the end of input (finish, last outputs, the final trajectory).
+  CpuHistogram odometry_cpu, range_cpu;
+  double finish_cpu_s = 0.0;
 };
 
 struct InputCounters {
@@ -62,13 +67,18 @@ class Host {
   const InputCounters& counters() const { return counters_; }
   const std::vector<EstimatorSlot>& estimators() const { return estimators_; }
   int64_t dataUtime() const { return data_utime_; }
-  // A summary line per estimator, and the input counters.
+  // Two summary lines per estimator (counts and total CPU; CPU per update), and the input
+  // counters.
   std::vector<std::string> summary() const;
+  // The second line: CPU per odometry and per range update (median, 99th percentile, max, count)
+  // and at the end of input. An update is one message fed to the estimator and its outputs polled.
+  static std::string cpuPerUpdateLine(const EstimatorSlot& slot);
   bool anyFailed() const;
 
  private:
-  void feedOdometry(const void* data, int size);
-  void feedRange(const void* data, int size);
+  // Each returns whether the message reached the estimators (false: skipped and counted).
+  bool feedOdometry(const void* data, int size);
+  bool feedRange(const void* data, int size);
   void feedInitialPose(const void* data, int size);
   void feedBeacons(const void* data, int size);
   // Checks time order and duplicates on a channel; false if the message must be skipped.
@@ -95,6 +105,7 @@ class Host {
   };
   std::map<std::string, ChannelHistory> history_;
   std::vector<uint8_t> buffer_;
+  std::vector<double> cpu_before_;  // per estimator, at the start of an event
 };
 
 }  // namespace runtime
