@@ -1,11 +1,11 @@
 // scaling_plot: the log-log figure of the scaling study (utilities/scaling) — CPU per solve
 // against the number of odometry steps T, one line per (solver, beacons), and a dashed slope-1
-// line (time proportional to T) through the first point of the first series.
+// line (time proportional to T) below the first point of the first series.
 //
 //   scaling_plot --csv scaling.csv --svg scaling.svg [--png scaling.png]
 //
-// The CSV has a header and the columns solver,N,T,cpu_s (more columns are ignored); rows of a
-// series in any order.
+// The CSV has a header naming (at least) the columns solver, N, T and cpu_s, in any order; rows
+// of a series in any order.
 #include <boost/program_options.hpp>
 
 #include <algorithm>
@@ -30,27 +30,41 @@ struct Point {
   double steps, cpu_s;
 };
 
+std::vector<std::string> splitCsv(const std::string& line) {
+  std::vector<std::string> fields;
+  std::istringstream in(line);
+  std::string field;
+  while (std::getline(in, field, ',')) fields.push_back(field);
+  return fields;
+}
+
 // (solver, N) -> points, in the order the series first appear.
 std::vector<std::pair<std::string, std::vector<Point>>> readCsv(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read " + path);
   std::string line;
   if (!std::getline(in, line)) throw std::runtime_error(path + ": empty");
+  const std::vector<std::string> header = splitCsv(line);
+  auto column = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    if (it == header.end()) throw std::runtime_error(path + ": no column '" + name + "' in the header");
+    return static_cast<size_t>(it - header.begin());
+  };
+  const size_t solver = column("solver"), beacons = column("N"), steps = column("T"), cpu = column("cpu_s");
   std::vector<std::pair<std::string, std::vector<Point>>> series;
   int number = 1;
   while (std::getline(in, line)) {
     ++number;
     if (line.empty()) continue;
-    std::istringstream fields(line);
-    std::string solver, beacons, steps, cpu;
-    if (!std::getline(fields, solver, ',') || !std::getline(fields, beacons, ',') ||
-        !std::getline(fields, steps, ',') || !std::getline(fields, cpu, ',')) {
-      throw std::runtime_error(path + ":" + std::to_string(number) + ": expected solver,N,T,cpu_s");
+    const std::vector<std::string> fields = splitCsv(line);
+    if (fields.size() != header.size()) {
+      throw std::runtime_error(path + ":" + std::to_string(number) + ": expected " + std::to_string(header.size()) +
+                               " fields");
     }
-    const std::string name = solver + ", N = " + beacons;
+    const std::string name = fields[solver] + ", N = " + fields[beacons];
     auto it = std::find_if(series.begin(), series.end(), [&](const auto& s) { return s.first == name; });
     if (it == series.end()) it = series.insert(series.end(), {name, {}});
-    it->second.push_back({std::stod(steps), std::stod(cpu)});
+    it->second.push_back({std::stod(fields[steps]), std::stod(fields[cpu])});
   }
   if (series.empty()) throw std::runtime_error(path + ": no rows");
   return series;
@@ -77,7 +91,8 @@ std::string figureSvg(std::vector<std::pair<std::string, std::vector<Point>>> se
     }
     figure.series.push_back(s);
   }
-  // Slope 1 through the first point of the first series, over the whole range of T.
+  // Slope 1 a factor 3 below the first point of the first series (a guide that does not hide
+  // it), over the whole range of T.
   double lo = 1e300, hi = 0.0;
   for (const auto& [name, points] : series)
     for (const Point& p : points) {
@@ -91,7 +106,7 @@ std::string figureSvg(std::vector<std::pair<std::string, std::vector<Point>>> se
   reference.dashed = true;
   reference.markers = false;
   reference.x = {lo, hi};
-  reference.y = {anchor.cpu_s * lo / anchor.steps, anchor.cpu_s * hi / anchor.steps};
+  reference.y = {anchor.cpu_s / 3.0 * lo / anchor.steps, anchor.cpu_s / 3.0 * hi / anchor.steps};
   figure.series.push_back(reference);
   return roam::plot::logLogFigureSvg(figure);
 }
@@ -111,7 +126,7 @@ int main(int argc, char** argv) {
   // clang-format off
   options.add_options()
       ("help,h", "this help")
-      ("csv", po::value(&csv_path)->required(), "FILE: rows solver,N,T,cpu_s (a header first)")
+      ("csv", po::value(&csv_path)->required(), "FILE: a header naming solver, N, T, cpu_s; then the rows")
       ("svg", po::value(&svg_path)->required(), "FILE: the figure as SVG")
       ("png", po::value(&png_path), "FILE: the figure as PNG too (rsvg-convert)");
   // clang-format on
