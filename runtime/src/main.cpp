@@ -6,6 +6,7 @@
 //
 // Exit status: 0 all estimators finished; 1 an estimator failed (named on stderr);
 // 2 bad config, missing plugin, unreadable input (before any data is read).
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -162,6 +163,10 @@ int main(int argc, char** argv) {
   }
   if (log_sink) log_sink->flush();
   for (const auto& line : host->summary()) std::fprintf(stderr, "%s\n", line.c_str());
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) == 0) {  // every estimator and the runtime together
+    std::fprintf(stderr, "peak memory: %.1f MB resident\n", static_cast<double>(usage.ru_maxrss) / 1024.0);
+  }
   if (!config.output.empty()) std::fprintf(stderr, "output: %s\n", config.output.c_str());
   if (host->anyFailed()) {
     for (const auto& slot : host->estimators()) {
