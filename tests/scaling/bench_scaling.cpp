@@ -21,7 +21,9 @@
 // Counters: per_step (CPU per odometry step), peak_rss_MB (peak resident memory while solving:
 // the peak is reset after the input is built, so it holds the input plus the solver's own
 // memory), input_rss_MB (resident memory before the first solve), mean_error_m (against ground
-// truth: the solve is a real one), window_s (spectral). Times are process CPU time.
+// truth: the solve is a real one), window_s (spectral), sys_share (the kernel's part of the CPU
+// time: first touches of the pages of freshly allocated matrices). Times are process CPU time
+// (user + kernel).
 //
 // Options before Google Benchmark's own: --quick (T up to 3e4 only, for a smoke run);
 // --batch-max-steps=T (largest T for the batch solver, default 100000).
@@ -106,7 +108,24 @@ double meanError_m(const roam::Path& path, const roam::Path& truth) {
   return path.size() == truth.size() ? roam::test::meanError_m(path, truth) : -1.0;
 }
 
-void setCommonCounters(benchmark::State& state, const roam::Dataset& data, double input_rss_mb) {
+double seconds(const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); }
+
+// User and kernel CPU of the process so far.
+struct CpuSplit {
+  double user_s = 0.0, sys_s = 0.0;
+  static CpuSplit now() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return {seconds(usage.ru_utime), seconds(usage.ru_stime)};
+  }
+};
+
+// sys_share: the kernel's part of the timed CPU (page faults of freshly allocated matrices).
+void setCommonCounters(benchmark::State& state, const roam::Dataset& data, double input_rss_mb,
+                       const CpuSplit& before) {
+  const CpuSplit after = CpuSplit::now();
+  const double user_s = after.user_s - before.user_s, sys_s = after.sys_s - before.sys_s;
+  state.counters["sys_share"] = user_s + sys_s > 0.0 ? sys_s / (user_s + sys_s) : 0.0;
   const double steps = static_cast<double>(data.odometry.size());
   state.counters["per_step"] =
       benchmark::Counter(steps, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
@@ -133,11 +152,12 @@ void BM_Spectral(benchmark::State& state) {
   const double input_rss_mb = statusKb("VmRSS") / 1024.0;
   resetPeakRss();
   roam::SpectralSolution solution;
+  const CpuSplit before = CpuSplit::now();
   for (auto _ : state) {
     solution = roam::solveSpectral(*problem, config);
     benchmark::DoNotOptimize(solution.trajectory.data());
   }
-  setCommonCounters(state, data, input_rss_mb);
+  setCommonCounters(state, data, input_rss_mb, before);
   state.counters["mean_error_m"] = meanError_m(solution.trajectory, data.ground_truth);
   state.counters["window_s"] = solution.window_s;
 }
@@ -151,13 +171,14 @@ void BM_Batch(benchmark::State& state) {
   resetPeakRss();
   roam::Path path;
   double iterations = 0.0;
+  const CpuSplit before = CpuSplit::now();
   for (auto _ : state) {
     roam::SpectralBatchSlam slam(config);
     roam::test::feed(data, slam);
     slam.trajectory(true, &path);
     iterations = slam.diagnostics().at("solver_iterations");
   }
-  setCommonCounters(state, data, input_rss_mb);
+  setCommonCounters(state, data, input_rss_mb, before);
   state.counters["mean_error_m"] = meanError_m(path, data.ground_truth);
   state.counters["solver_iterations"] = iterations;
 }

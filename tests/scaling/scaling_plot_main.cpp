@@ -4,8 +4,8 @@
 //
 //   scaling_plot --csv scaling.csv --svg scaling.svg [--png scaling.png]
 //
-// The CSV has a header naming (at least) the columns solver, N, T and cpu_s, in any order; rows
-// of a series in any order.
+// The CSV has a header naming (at least) the columns solver, N, T and cpu_s, in any order (lines
+// starting with # before it are comments); rows of a series in any order.
 #include <boost/program_options.hpp>
 
 #include <algorithm>
@@ -43,7 +43,11 @@ std::vector<std::pair<std::string, std::vector<Point>>> readCsv(const std::strin
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read " + path);
   std::string line;
-  if (!std::getline(in, line)) throw std::runtime_error(path + ": empty");
+  int number = 0;
+  do {  // lines starting with # before the header are comments
+    if (!std::getline(in, line)) throw std::runtime_error(path + ": no header");
+    ++number;
+  } while (!line.empty() && line[0] == '#');
   const std::vector<std::string> header = splitCsv(line);
   auto column = [&](const std::string& name) {
     const auto it = std::find(header.begin(), header.end(), name);
@@ -52,7 +56,6 @@ std::vector<std::pair<std::string, std::vector<Point>>> readCsv(const std::strin
   };
   const size_t solver = column("solver"), beacons = column("N"), steps = column("T"), cpu = column("cpu_s");
   std::vector<std::pair<std::string, std::vector<Point>>> series;
-  int number = 1;
   while (std::getline(in, line)) {
     ++number;
     if (line.empty()) continue;
