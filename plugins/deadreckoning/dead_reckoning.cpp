@@ -1,6 +1,6 @@
 #include "dead_reckoning.hpp"
 
-#include <cmath>
+#include "roam/estimation/motion_model.hpp"
 
 namespace roam {
 
@@ -14,14 +14,6 @@ void DeadReckoning::setInitialPose(const Pose& start) {
 }
 
 void DeadReckoning::addOdometry(const Odometry& odometry) {
-  if (odometry.delta_distance_m < 0.0) {
-    rejectOdometry("negative distance");
-    return;
-  }
-  if (odometry.delta_distance_m > config_.max_step_m) {
-    rejectOdometry("step longer than max_step_m");
-    return;
-  }
   if (path_.empty()) {
     // No INITIAL_POSE: start at the origin, one step before this odometry.
     Pose origin;
@@ -33,12 +25,7 @@ void DeadReckoning::addOdometry(const Odometry& odometry) {
     rejectOdometry("time went backwards");
     return;
   }
-  const Pose& last = path_.back();
-  Pose next;
-  next.utime = odometry.utime;
-  next.x_m = last.x_m + odometry.delta_distance_m * std::cos(last.heading_rad);
-  next.y_m = last.y_m + odometry.delta_distance_m * std::sin(last.heading_rad);
-  next.heading_rad = wrapAngle(last.heading_rad + odometry.delta_heading_rad);
+  const Pose next = estimation::step(path_.back(), odometry);
   path_.push_back(next);
   acceptOdometry();
   emitPose(next);

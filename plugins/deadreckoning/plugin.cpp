@@ -5,11 +5,8 @@
 namespace {
 
 std::unique_ptr<roam::Estimator> makeDeadReckoning(roam::Options& options) {
-  roam::DeadReckoningConfig config;
-  options.add("max_step_m", &config.max_step_m, "odometry steps longer than this are rejected")
-      .min(0.0, false);
-  options.parse();
-  return std::make_unique<roam::DeadReckoning>(config);
+  options.parse();  // no keys of its own: max_speed_mps and max_range_m are the SDK's
+  return std::make_unique<roam::DeadReckoning>();
 }
 
 }  // namespace

@@ -30,7 +30,6 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("init_max_ranges", &c->init_max_ranges, "ranges buffered per pending beacon").min(3);
   o.add("init_window_s", &c->init_window_s, "buffered ranges older than this are dropped").min(0.0, false);
   o.add("init_prior_inflation", &c->init_prior_inflation, "batch covariance inflation before re-applying the ranges").min(1.0, false);
-  o.add("max_step_m", &c->max_step_m, "odometry steps longer than this are rejected").min(0.0, false);
 }
 
 void validate(const EkfConfig& c) {
@@ -56,7 +55,6 @@ void validate(const EkfConfig& c) {
   if (!(c.init_mirror_chi2 >= 0.0)) fail("init_mirror_chi2 >= 0");
   if (!(c.init_window_s > 0.0)) fail("init_window_s > 0");
   if (!(c.init_prior_inflation > 1.0)) fail("init_prior_inflation > 1");
-  if (!(c.max_step_m > 0.0)) fail("max_step_m > 0");
 }
 
 double chiSquareQuantile(int dof, double probability) {

@@ -40,7 +40,6 @@ struct EkfConfig {
   int init_max_ranges = 200;               // buffer per pending beacon (oldest dropped)
   double init_window_s = 600.0;            // buffered ranges older than this are dropped
   double init_prior_inflation = 100.0;     // batch covariance x this = prior before re-applying
-  double max_step_m = 10.0;                // odometry steps longer than this are rejected
 };
 
 // Registers every key of the [estimator.*] section with its checks (the shim calls parse()).

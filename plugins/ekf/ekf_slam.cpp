@@ -60,8 +60,6 @@ void EkfSlam::insertSurveyed() {
 }
 
 void EkfSlam::addOdometry(const Odometry& odometry) {
-  if (odometry.delta_distance_m < 0.0) return rejectOdometry("negative distance");
-  if (odometry.delta_distance_m > config_.max_step_m) return rejectOdometry("step longer than max_step_m");
   if (!started_) {
     Pose origin;  // no INITIAL_POSE: start at the origin at this step's time
     origin.utime = odometry.utime;
@@ -101,7 +99,7 @@ void EkfSlam::runStep(const Step& step, bool live) {
     filter_.addBeacon(insert.id, insert.world_m, insert.cov_m2);
     map_dirty_ = true;
   }
-  const double d_m = step.odometry.delta_distance_m;
+  const double d_m = step.odometry.forward_m;
   const double dtheta_rad = step.odometry.delta_heading_rad;
   const double var_d = std::pow(config_.odo_distance_sigma_rel * d_m, 2) +
                        std::pow(config_.odo_distance_sigma_m, 2);

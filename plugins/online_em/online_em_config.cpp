@@ -45,8 +45,6 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
       .min(0.0, false);
   options.add("init_min_ranges", &c->init_min_ranges, "ranges before multilateration").min(3);
   options.add("init_min_spread_m", &c->init_min_spread_m, "spread of the ranging positions").min(0.0);
-  options.add("max_step_m", &c->max_step_m, "odometry steps longer than this are rejected")
-      .min(0.0, false);
 }
 
 std::string validate(const OnlineEmConfig& c) {

@@ -83,8 +83,6 @@ struct OnlineEmConfig {
   // so that the mirror ambiguity of a straight path is resolved.
   int init_min_ranges = 12;
   double init_min_spread_m = 3.0;
-
-  double max_step_m = 10.0;  // odometry steps longer than this are rejected as jumps
 };
 
 // Registers every key (with its check) on `options`, bound to `config`.

@@ -130,14 +130,6 @@ void OnlineEmSlam::addRange(const Range& range) {
 }
 
 void OnlineEmSlam::addOdometry(const Odometry& odometry) {
-  if (odometry.delta_distance_m < 0.0) {
-    rejectOdometry("negative distance");
-    return;
-  }
-  if (odometry.delta_distance_m > config_.max_step_m) {
-    rejectOdometry("step longer than max_step_m");
-    return;
-  }
   if (!started_) {
     // No INITIAL_POSE: start at the origin, at this step's time.
     Pose origin;
@@ -157,7 +149,7 @@ void OnlineEmSlam::addOdometry(const Odometry& odometry) {
   previous_ = particles_;
   previous_weights_ = weights_;
   resample();
-  motion_.setControl(odometry.delta_distance_m, odometry.delta_heading_rad, dt_s);
+  motion_.setControl(odometry.forward_m, odometry.delta_heading_rad, dt_s);
   for (int l = 0; l < n; ++l) motion_.sample(previous_, ancestor_index_[l], &particles_, l, rng_);
 
   // Ranges up to this step's end; later ones wait for their step.

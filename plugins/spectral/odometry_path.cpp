@@ -17,13 +17,13 @@ void OdometryPath::reset(const Pose& start) {
 }
 
 void OdometryPath::append(const Odometry& odometry) {
-  x_m.push_back(x_m.back() + odometry.delta_distance_m * cos_heading.back());
-  y_m.push_back(y_m.back() + odometry.delta_distance_m * sin_heading.back());
+  x_m.push_back(x_m.back() + odometry.forward_m * cos_heading.back());
+  y_m.push_back(y_m.back() + odometry.forward_m * sin_heading.back());
   heading_rad.push_back(heading_rad.back() + odometry.delta_heading_rad);
   cos_heading.push_back(std::cos(heading_rad.back()));
   sin_heading.push_back(std::sin(heading_rad.back()));
   utime.push_back(odometry.utime);
-  step_m.push_back(odometry.delta_distance_m);
+  step_m.push_back(odometry.forward_m);
   turn_rad.push_back(odometry.delta_heading_rad);
 }
 

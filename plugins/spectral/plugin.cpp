@@ -32,7 +32,6 @@ std::unique_ptr<roam::Estimator> makeSpectral(roam::Options& options) {
       .min(0.0, false);
   options.add("align_m", &config.align_m, "start_pose: metres of travel the path is aligned on")
       .min(0.0, false);
-  options.add("max_step_m", &config.max_step_m, "odometry steps longer than this are rejected").min(0.0, false);
   options.parse();
   config.anchor = roam::parseSpectralAnchor(anchor);
   config.mode = roam::parseSpectralMode(mode);

@@ -19,7 +19,6 @@ void SpectralConfig::validate() const {
   if (!(interpolation_rcond >= 0.0 && interpolation_rcond < 1.0))
     fail("interpolation_rcond must be in [0, 1)");
   if (!(align_m > 0.0) || !std::isfinite(align_m)) fail("align_m must be > 0");
-  if (!(max_step_m > 0.0)) fail("max_step_m must be > 0");
 }
 
 SpectralAnchor parseSpectralAnchor(const std::string& text) {

@@ -59,7 +59,6 @@ struct SpectralConfig {
   double align_m = 50.0;
 
   // Odometry steps longer than this are rejected as jumps (same meaning as deadreckoning).
-  double max_step_m = 10.0;
 
   // Throws std::invalid_argument naming the field and what was expected.
   void validate() const;

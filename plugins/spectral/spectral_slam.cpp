@@ -49,8 +49,6 @@ int SpectralSlam::beaconRow(int id) {
 
 void SpectralSlam::addOdometry(const Odometry& odometry) {
   if (solution_) return rejectOdometry("after finish");
-  if (!(odometry.delta_distance_m >= 0.0)) return rejectOdometry("negative distance");
-  if (odometry.delta_distance_m > config_.max_step_m) return rejectOdometry("step longer than max_step_m");
   if (!have_start_) {
     Pose origin;
     origin.utime = odometry.utime;

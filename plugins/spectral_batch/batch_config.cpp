@@ -42,7 +42,6 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
   o.add("parameter_tolerance", &c->parameter_tolerance, "Ceres relative step size to stop").min(0.0);
   o.add("num_threads", &c->num_threads, "Ceres threads").min(1);
   o.add("verbose", &c->verbose, "print the solver summary on stderr after every solve");
-  o.add("max_step_m", &c->max_step_m, "odometry steps longer than this are rejected").min(0.0, false);
 }
 
 void validate(const SpectralBatchConfig& c) {
@@ -79,7 +78,6 @@ void validate(const SpectralBatchConfig& c) {
   if (!(c.function_tolerance >= 0.0) || !(c.gradient_tolerance >= 0.0) || !(c.parameter_tolerance >= 0.0))
     fail("solver tolerances >= 0");
   if (c.num_threads < 1) fail("num_threads >= 1");
-  if (!(c.max_step_m > 0.0)) fail("max_step_m > 0");
 }
 
 }  // namespace roam

@@ -77,7 +77,6 @@ struct SpectralBatchConfig {
   bool verbose = false;           // the solver summary on stderr after every solve
 
   // Odometry steps longer than this are rejected as jumps (same meaning as deadreckoning).
-  double max_step_m = 10.0;
 };
 
 // The robust-loss scale actually used (loss_scale, or the loss's 95 %-efficiency constant).

@@ -31,7 +31,7 @@ ceres::LinearSolverType linearSolver(const std::string& name) {
 }  // namespace
 
 std::array<double, 3> odometrySigmas(const SpectralBatchConfig& c, const Odometry& odometry) {
-  const double d_m = std::abs(odometry.delta_distance_m);
+  const double d_m = std::abs(odometry.forward_m);
   const double along_m = c.odo_distance_sigma_rel * d_m + c.odo_distance_sigma_m;
   const double turn = c.odo_heading_sigma_rel * std::abs(odometry.delta_heading_rad);
   const double heading_rad =
@@ -56,7 +56,7 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     const Odometry& odometry = problem.odometry[k];
     const std::array<double, 3> sigma = odometrySigmas(config, odometry);
     ceres_problem.AddResidualBlock(
-        OdometryResidual::create(odometry.delta_distance_m, odometry.delta_heading_rad, sigma[0],
+        OdometryResidual::create(odometry.forward_m, odometry.delta_heading_rad, sigma[0],
                                  sigma[1], sigma[2]),
         nullptr, state->poses[k].data(), state->poses[k + 1].data());
   }

@@ -13,8 +13,8 @@ std::vector<std::array<double, 3>> deadReckon(const std::array<double, 3>& start
   poses.push_back(start_pose);
   for (const Odometry& step : odometry) {
     const std::array<double, 3>& last = poses.back();
-    poses.push_back({last[0] + step.delta_distance_m * std::cos(last[2]),
-                     last[1] + step.delta_distance_m * std::sin(last[2]),
+    poses.push_back({last[0] + step.forward_m * std::cos(last[2]),
+                     last[1] + step.forward_m * std::sin(last[2]),
                      last[2] + step.delta_heading_rad});
   }
   return poses;
@@ -63,7 +63,7 @@ void headingsFromOdometryAlignment(const std::vector<Odometry>& odometry, double
     const double bx = p[k][0] - mean_b.x(), by = p[k][1] - mean_b.y();
     const std::array<double, 7> term{ax, ay, bx, by, ax * bx + ay * by, ax * by - ay * bx, ax * ax + ay * ay};
     for (int c = 0; c < 7; ++c) sum[k + 1][c] = sum[k][c] + term[c];
-    if (k > 0) travelled[k] = travelled[k - 1] + std::abs(odometry[k - 1].delta_distance_m);
+    if (k > 0) travelled[k] = travelled[k - 1] + std::abs(odometry[k - 1].forward_m);
   }
   size_t lo = 0, hi = 0;
   double previous_rad = 0.0;

@@ -17,8 +17,8 @@ namespace {
 constexpr double kMinSeedSpeed_mps = 0.1;
 
 std::array<double, 3> propagate(const std::array<double, 3>& pose, const Odometry& step) {
-  return {pose[0] + step.delta_distance_m * std::cos(pose[2]),
-          pose[1] + step.delta_distance_m * std::sin(pose[2]), pose[2] + step.delta_heading_rad};
+  return {pose[0] + step.forward_m * std::cos(pose[2]),
+          pose[1] + step.forward_m * std::sin(pose[2]), pose[2] + step.delta_heading_rad};
 }
 
 Pose toPose(int64_t utime, const std::array<double, 3>& pose) {
@@ -61,9 +61,6 @@ void SpectralBatchSlam::setBeacons(const Map& surveyed) {
 }
 
 void SpectralBatchSlam::addOdometry(const Odometry& odometry) {
-  if (odometry.delta_distance_m < 0.0) return rejectOdometry("negative distance");
-  if (odometry.delta_distance_m > config_.max_step_m)
-    return rejectOdometry("step longer than max_step_m");
   if (!started_) {
     // No INITIAL_POSE: start at the origin, at this step's time (as deadreckoning does).
     Pose origin;

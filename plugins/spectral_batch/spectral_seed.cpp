@@ -16,7 +16,6 @@ bool spectralSeedAvailable() { return true; }
 std::unique_ptr<Estimator> makeSpectralSeed(const SpectralBatchConfig& config) {
   SpectralConfig spectral;
   spectral.anchor = config.anchor == "beacons" ? SpectralAnchor::kBeacons : SpectralAnchor::kStartPose;
-  spectral.max_step_m = config.max_step_m;
   return std::make_unique<SpectralSlam>(spectral);
 }
 

@@ -20,16 +20,20 @@ std::string outputChannel(const std::string& prefix, const std::string& estimato
 roam::odometry_t toMessage(const Odometry& odometry) {
   roam::odometry_t message;
   message.utime = odometry.utime;
-  message.delta_distance = odometry.delta_distance_m;
+  message.delta_distance = odometry.forward_m;
   message.delta_heading = odometry.delta_heading_rad;
+  message.delta_lateral = odometry.lateral_m;
+  for (int i = 0; i < 9; ++i) message.covariance[i] = odometry.covariance[i];
   return message;
 }
 
 Odometry fromMessage(const roam::odometry_t& message) {
   Odometry odometry;
   odometry.utime = message.utime;
-  odometry.delta_distance_m = message.delta_distance;
+  odometry.forward_m = message.delta_distance;
   odometry.delta_heading_rad = message.delta_heading;
+  odometry.lateral_m = message.delta_lateral;
+  for (int i = 0; i < 9; ++i) odometry.covariance[i] = message.covariance[i];
   return odometry;
 }
 

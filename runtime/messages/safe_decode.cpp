@@ -2,6 +2,9 @@
 
 #include <cstdint>
 #include <exception>
+#include <limits>
+
+#include "roam/odometry_v1_t.hpp"
 
 namespace roam {
 namespace {
@@ -55,7 +58,19 @@ int decodeGuarded(const void* data, int size, Message* message) {
 }  // namespace
 
 int decodeMessage(const void* data, int size, roam::odometry_t* message) {
-  return decodeGuarded(data, size, message);
+  const int used = decodeGuarded(data, size, message);
+  if (used >= 0) return used;
+  // A log from before lateral motion and covariances: the same step with lateral = 0 and the
+  // covariance unknown.
+  roam::odometry_v1_t legacy;
+  const int legacy_used = decodeGuarded(data, size, &legacy);
+  if (legacy_used < 0) return -1;
+  message->utime = legacy.utime;
+  message->delta_distance = legacy.delta_distance;
+  message->delta_heading = legacy.delta_heading;
+  message->delta_lateral = 0.0;
+  for (double& value : message->covariance) value = std::numeric_limits<double>::quiet_NaN();
+  return legacy_used;
 }
 
 int decodeMessage(const void* data, int size, roam::range_t* message) {

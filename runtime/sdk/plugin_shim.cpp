@@ -1,5 +1,6 @@
 #include "roam/plugin_shim.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -68,11 +69,23 @@ Beacon fromC(const roam_beacon& beacon) {
 }
 
 roam_odometry toC(const Odometry& odometry) {
-  return roam_odometry{odometry.utime, odometry.delta_distance_m, odometry.delta_heading_rad};
+  roam_odometry out{};
+  out.utime = odometry.utime;
+  out.forward_m = odometry.forward_m;
+  out.lateral_m = odometry.lateral_m;
+  out.delta_heading_rad = odometry.delta_heading_rad;
+  for (int i = 0; i < 9; ++i) out.covariance[i] = odometry.covariance[i];
+  return out;
 }
 
 Odometry fromC(const roam_odometry& odometry) {
-  return Odometry{odometry.utime, odometry.delta_distance_m, odometry.delta_heading_rad};
+  Odometry out;
+  out.utime = odometry.utime;
+  out.forward_m = odometry.forward_m;
+  out.lateral_m = odometry.lateral_m;
+  out.delta_heading_rad = odometry.delta_heading_rad;
+  for (int i = 0; i < 9; ++i) out.covariance[i] = odometry.covariance[i];
+  return out;
 }
 
 roam_range toC(const Range& range) {
@@ -98,9 +111,29 @@ Range fromC(const roam_range& range) {
 }
 
 std::string checkOdometry(const roam_odometry& odometry) {
-  if (!std::isfinite(odometry.delta_distance_m) || !std::isfinite(odometry.delta_heading_rad))
+  if (!std::isfinite(odometry.forward_m) || !std::isfinite(odometry.lateral_m) ||
+      !std::isfinite(odometry.delta_heading_rad))
     return "not finite";
   return "";
+}
+
+std::string OdometryCheck::check(const roam_odometry& odometry) const {
+  const std::string problem = checkOdometry(odometry);
+  if (!problem.empty()) return problem;
+  double dt_s = 1.0;
+  if (have_last_) {
+    if (odometry.utime < last_utime_) return "time went backwards";
+    dt_s = std::max(1.0, (static_cast<double>(odometry.utime) - static_cast<double>(last_utime_)) * 1e-6);
+  }
+  if (std::hypot(odometry.forward_m, odometry.lateral_m) > max_speed_mps * dt_s) {
+    return "faster than max_speed_mps";
+  }
+  return "";
+}
+
+void OdometryCheck::accepted(const roam_odometry& odometry) {
+  have_last_ = true;
+  last_utime_ = odometry.utime;
 }
 
 std::string checkRange(const roam_range& range) {
@@ -127,6 +160,9 @@ roam_handle create(Factory factory, const roam_kv* config, int32_t num_config,
     Options options(values);
     auto self = std::make_unique<Instance>();
     options.add("max_range_m", &self->max_range_m, "longer ranges are rejected as implausible")
+        .min(0.0, false);
+    options.add("max_speed_mps", &self->odometry_check.max_speed_mps,
+                "odometry steps faster than this (over max(dt, 1 s)) are rejected as jumps")
         .min(0.0, false);
     self->estimator = factory(options);
     if (!self->estimator) {
@@ -183,11 +219,12 @@ int setBeacons(roam_handle h, const roam_beacon* beacons, int32_t num_beacons) {
 
 int addOdometry(roam_handle h, const roam_odometry* odometry) {
   return guarded(h, [&](Instance& self) {
-    const std::string problem = checkOdometry(*odometry);
+    const std::string problem = self.odometry_check.check(*odometry);
     if (!problem.empty()) {
       self.estimator->rejectOdometry(problem);
       return;
     }
+    self.odometry_check.accepted(*odometry);
     self.estimator->addOdometry(fromC(*odometry));
   });
 }

@@ -10,4 +10,11 @@ double wrapAngle(double angle_rad) {
   return wrapped;
 }
 
+bool Odometry::hasCovariance() const {
+  for (double value : covariance) {
+    if (!std::isfinite(value)) return false;
+  }
+  return covariance[0] > 0.0 && covariance[4] > 0.0 && covariance[8] > 0.0;
+}
+
 }  // namespace roam

@@ -90,6 +90,18 @@ std::shared_ptr<PluginLibrary> PluginLibrary::openFile(const std::string& path) 
                       " bytes, expected " + std::to_string(sizeof(roam_plugin_descriptor)) +
                       ": rebuild the plugin against this roam");
   }
+  const roam_struct_layout expected[ROAM_ABI_NUM_STRUCTS] = ROAM_ABI_LAYOUTS;
+  const char* const names[ROAM_ABI_NUM_STRUCTS] = ROAM_ABI_STRUCT_NAMES;
+  for (int i = 0; i < ROAM_ABI_NUM_STRUCTS; ++i) {
+    const roam_struct_layout& got = descriptor->layouts[i];
+    if (got.size != expected[i].size || got.align != expected[i].align) {
+      throw PluginError(path + ": the plugin's " + names[i] + " is " + std::to_string(got.size) +
+                        " bytes aligned to " + std::to_string(got.align) + ", this roam-run's is " +
+                        std::to_string(expected[i].size) + " aligned to " +
+                        std::to_string(expected[i].align) +
+                        ": rebuild the plugin against this roam's plugin_abi.h");
+    }
+  }
   const void* functions[] = {
       reinterpret_cast<const void*>(descriptor->create),
       reinterpret_cast<const void*>(descriptor->destroy),

@@ -55,7 +55,7 @@ TEST(EkfPlugin, NoiseFreeRunThroughTheAbi) {
       roam_range c_range{range.utime, range.beacon_id, 0, range.range_m, range.sigma_m, 0.0};
       ASSERT_TRUE(ekf.addRange(c_range));
     }
-    ASSERT_TRUE(ekf.addOdometry(roam_odometry{o.utime, o.delta_distance_m, o.delta_heading_rad}));
+    ASSERT_TRUE(ekf.addOdometry(roam::shim::toC(o)));
   }
   ASSERT_TRUE(ekf.finish());
   std::vector<roam_pose> poses;

@@ -71,7 +71,7 @@ TEST(EkfSlam, NoiseFreeRangesBetweenStepsUseTheInterpolatedPose) {
   const double fraction = 0.3;
   for (size_t k = 0; k + 1 < run.ground_truth.size(); ++k) {
     const Pose& p = run.ground_truth[k];
-    const double d = run.odometry[k].delta_distance_m;
+    const double d = run.odometry[k].forward_m;
     const Beacon& b = run.beacons[k % run.beacons.size()];
     Range r;
     r.utime = p.utime + static_cast<int64_t>(fraction * (run.odometry[k].utime - p.utime));
@@ -244,8 +244,8 @@ TEST(EkfSlam, StartPoseNoisyRunsBeatDeadReckoningWithAConsistentMap) {
     for (size_t k = 0; k < ekf.path().size(); ++k) {
       if (k > 0) {
         const Odometry& o = c.run.odometry[k - 1];
-        dr.x_m += o.delta_distance_m * std::cos(dr.heading_rad);
-        dr.y_m += o.delta_distance_m * std::sin(dr.heading_rad);
+        dr.x_m += o.forward_m * std::cos(dr.heading_rad);
+        dr.y_m += o.forward_m * std::sin(dr.heading_rad);
         dr.heading_rad += o.delta_heading_rad;
       }
       const Pose& truth = c.run.ground_truth[k];

@@ -39,7 +39,7 @@ void checkPath(const roam::Path& path) {
 
 void checkOdometry(const std::vector<roam::Odometry>& odometry) {
   for (size_t k = 0; k < odometry.size(); ++k) {
-    ROAM_FUZZ_CHECK(std::isfinite(odometry[k].delta_distance_m) && std::isfinite(odometry[k].delta_heading_rad),
+    ROAM_FUZZ_CHECK(std::isfinite(odometry[k].forward_m) && std::isfinite(odometry[k].delta_heading_rad),
                     "non-finite odometry was imported");
     ROAM_FUZZ_CHECK(k == 0 || odometry[k].utime >= odometry[k - 1].utime, "odometry times go backwards");
   }

@@ -59,10 +59,10 @@ TEST(BadConfig, MaxRangeOfTheWrongTypeOrOutOfRangeInEveryPlugin) {
 }
 
 TEST(BadConfig, MaxStepOfTheWrongTypeOrOutOfRange) {
-  expectStartupError({"", "max_step_m = -3\n", "deadreckoning",
-                      ":6 [estimator.deadreckoning] max_step_m: expected a value > 0, got '-3'"});
-  expectStartupError({"", "max_step_m = 3 m\n", "deadreckoning",
-                      ":6 [estimator.deadreckoning] max_step_m: expected a number, got '3 m'"});
+  expectStartupError({"", "max_speed_mps = -3\n", "deadreckoning",
+                      ":6 [estimator.deadreckoning] max_speed_mps: expected a value > 0, got '-3'"});
+  expectStartupError({"", "max_speed_mps = 3 m\n", "deadreckoning",
+                      ":6 [estimator.deadreckoning] max_speed_mps: expected a number, got '3 m'"});
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// Bad odometry and bad timing (README "Bad input"): NaN steps, jumps beyond max_step_m,
+// Bad odometry and bad timing (README "Bad input"): NaN steps, jumps faster than max_speed_mps,
 // zero-distance steps, time going backwards, duplicate events.
 #include <gtest/gtest.h>
 
@@ -36,9 +36,9 @@ TEST(BadOdometry, NaNStepsAreRejectedAsNotFinite) {
   EXPECT_EQ(result.poses.at("deadreckoning").size(), 298u);  // the start pose + 297 steps
 }
 
-TEST(BadOdometry, AJumpBeyondMaxStepIsRejected) {
-  // An extra 50 m step at the time of step 100 (the steps are 0.2 m; max_step_m is 10 m by
-  // default): rejected; the path is the clean one.
+TEST(BadOdometry, AJumpFasterThanMaxSpeedIsRejected) {
+  // An extra 50 m step at the time of step 100 (the steps are 0.2 m; max_speed_mps is 30 m/s by
+  // default, over max(dt, 1 s) = 1 s here): rejected; the path is the clean one.
   Events events = cleanEvents();
   const RunResult clean = runEveryPlugin("odometry_jump_clean", events);
   const auto steps = indicesOf(events, "ODOMETRY");
@@ -48,7 +48,7 @@ TEST(BadOdometry, AJumpBeyondMaxStepIsRejected) {
   const RunResult result = runEveryPlugin("odometry_jump", events);
   expectSafeRun(result, countByChannel(events));
   const Status& dr = result.status.at("deadreckoning");
-  EXPECT_EQ(dr.value("rejected odometry: step longer than max_step_m"), 1);
+  EXPECT_EQ(dr.value("rejected odometry: faster than max_speed_mps"), 1);
   EXPECT_EQ(dr.odometry_accepted, 300);
   ASSERT_EQ(result.poses.at("deadreckoning").size(), 301u);
   EXPECT_EQ(result.poses.at("deadreckoning").back().x_m, clean.poses.at("deadreckoning").back().x_m);

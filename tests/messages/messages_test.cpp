@@ -54,11 +54,11 @@ TEST(Messages, ChannelNames) {
 TEST(Messages, OdometryRoundTrip) {
   roam::Odometry in;
   in.utime = 3856880000;
-  in.delta_distance_m = 0.1875;
+  in.forward_m = 0.1875;
   in.delta_heading_rad = -0.015625;
   const roam::Odometry out = roam::fromMessage(roundTrip(roam::toMessage(in)));
   EXPECT_EQ(out.utime, in.utime);
-  EXPECT_EQ(out.delta_distance_m, in.delta_distance_m);
+  EXPECT_EQ(out.forward_m, in.forward_m);
   EXPECT_EQ(out.delta_heading_rad, in.delta_heading_rad);
 }
 

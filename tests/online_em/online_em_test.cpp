@@ -105,7 +105,7 @@ TEST(OnlineEmNoiseFree, RangesBetweenOdometryStepsUseTheInterpolatedPose) {
   for (int k = 0; k < 300; ++k) {
     Odometry o;
     o.utime = (k + 1) * 200000;
-    o.delta_distance_m = 0.2;
+    o.forward_m = 0.2;
     o.delta_heading_rad = (k / 50) % 2 == 1 ? M_PI / 100.0 : 0.0;
     Pose next = p;
     next.utime = o.utime;

@@ -35,7 +35,7 @@ TEST(Config, ReadsSectionsAndResolvesPathsAgainstTheConfigFolder) {
                               "\n"
                               "[estimator.dr]\n"
                               "plugin = deadreckoning\n"
-                              "max_step_m = 3\n");
+                              "max_speed_mps = 3\n");
   const RunConfig config = loadConfig(path.string(), {}, "/default/plugins");
   EXPECT_EQ(config.input, (dir.parent_path() / "logs/a.lcmlog").lexically_normal().string());
   EXPECT_EQ(config.output, (dir / "out/result.lcmlog").string());
@@ -46,7 +46,7 @@ TEST(Config, ReadsSectionsAndResolvesPathsAgainstTheConfigFolder) {
   EXPECT_EQ(config.estimators[0].pose_channel, "POSE_DR");
   EXPECT_EQ(config.estimators[0].trajectory_channel, "TRAJECTORY_DR");
   ASSERT_EQ(config.estimators[0].plugin_settings.size(), 1u);
-  EXPECT_EQ(config.estimators[0].plugin_settings[0].key, "max_step_m");
+  EXPECT_EQ(config.estimators[0].plugin_settings[0].key, "max_speed_mps");
   EXPECT_EQ(config.estimators[0].plugin_settings[0].value, "3");
   EXPECT_EQ(config.estimators[0].plugin_settings[0].origin.line, 7);
   EXPECT_FALSE(config.isLive());
@@ -57,11 +57,11 @@ TEST(Config, UrlInputsAreNotPathsAndOverridesWin) {
   const auto path = writeFile(dir / "run.ini",
                               "[runtime]\ninput = a.lcmlog\n[estimator.dr]\nplugin = deadreckoning\n");
   const RunConfig config = loadConfig(
-      path.string(), {"runtime.input=udpm://239.255.76.67:7667?ttl=0", "estimator.dr.max_step_m=2"}, "/p");
+      path.string(), {"runtime.input=udpm://239.255.76.67:7667?ttl=0", "estimator.dr.max_speed_mps=2"}, "/p");
   EXPECT_EQ(config.input, "udpm://239.255.76.67:7667?ttl=0");
   EXPECT_TRUE(config.isLive());
   ASSERT_EQ(config.estimators[0].plugin_settings.size(), 1u);
-  EXPECT_EQ(config.estimators[0].plugin_settings[0].origin.describe(), "--set estimator.dr.max_step_m=2");
+  EXPECT_EQ(config.estimators[0].plugin_settings[0].origin.describe(), "--set estimator.dr.max_speed_mps=2");
 }
 
 TEST(Config, ErrorsNameFileLineSectionAndKey) {

@@ -39,6 +39,15 @@ TEST(Loader, RejectsAWrongDescriptorSize) {
                                          ": rebuild the plugin against this roam");
 }
 
+TEST(Loader, RejectsAStructLayoutThatDiffersFromTheHosts) {
+  // wrong_layout was built with ABI-1's 24-byte roam_odometry (utime, distance, heading).
+  EXPECT_EQ(openError("wrong_layout"),
+            kDir + "/libroam_wrong_layout.so: the plugin's roam_odometry is 24 bytes aligned to 8, "
+                   "this roam-run's is " + std::to_string(sizeof(roam_odometry)) +
+                " aligned to 8: rebuild the plugin against this roam's plugin_abi.h");
+  EXPECT_EQ(sizeof(roam_odometry), 8u + 3 * 8 + 9 * 8);  // utime, forward, lateral, heading, covariance
+}
+
 TEST(Loader, RejectsALibraryWithoutTheEntrySymbol) {
   EXPECT_EQ(openError("no_entry"),
             kDir + "/libroam_no_entry.so: not a roam plugin: no 'roam_plugin_entry' symbol");
@@ -49,7 +58,7 @@ TEST(Loader, AMissingPluginGetsAHint) {
             "no plugin 'deadreckonin' in " + kDir + " (did you mean 'deadreckoning'?)");
   EXPECT_EQ(openError("kalman"), "no plugin 'kalman' in " + kDir +
                                      " (available: create_fails deadreckoning no_entry throws "
-                                     "wrong_size wrong_version)");
+                                     "wrong_layout wrong_size wrong_version)");
 }
 
 TEST(Loader, CreateFailuresCarryTheKeyAndMessage) {
@@ -63,10 +72,10 @@ TEST(Loader, CreateFailuresCarryTheKeyAndMessage) {
   }
   auto good = PluginLibrary::open(kDir, "deadreckoning");
   try {
-    PluginInstance instance(good, "x", {{"max_step_m", "-1"}});
+    PluginInstance instance(good, "x", {{"max_speed_mps", "-1"}});
     FAIL() << "create should have failed";
   } catch (const PluginConfigError& error) {
-    EXPECT_EQ(error.key(), "max_step_m");
+    EXPECT_EQ(error.key(), "max_speed_mps");
     EXPECT_STREQ(error.what(), "expected a value > 0, got '-1'");
   }
 }

@@ -148,10 +148,10 @@ TEST(Run, StartupErrorsAreOneLineWithExitStatus2) {
   const std::vector<Case> cases = {
       {"[estimator.dr]\nplugin = deadreckonin\n",
        "run.ini:6 [estimator.dr] plugin: no plugin 'deadreckonin' in"},
-      {"[estimator.dr]\nplugin = deadreckoning\nmax_step = 3\n",
-       "run.ini:7 [estimator.dr] max_step: unknown key 'max_step' (did you mean 'max_step_m'?)"},
-      {"[estimator.dr]\nplugin = deadreckoning\nmax_step_m = far\n",
-       "run.ini:7 [estimator.dr] max_step_m: expected a number, got 'far'"},
+      {"[estimator.dr]\nplugin = deadreckoning\nmax_speed_mp = 3\n",
+       "run.ini:7 [estimator.dr] max_speed_mp: unknown key 'max_speed_mp' (did you mean 'max_speed_mps'?)"},
+      {"[estimator.dr]\nplugin = deadreckoning\nmax_speed_mps = far\n",
+       "run.ini:7 [estimator.dr] max_speed_mps: expected a number, got 'far'"},
       {"[estimator.v]\nplugin = wrong_version\n", "plugin ABI version"},
       {"[estimator.c]\nplugin = create_fails\n", "run.ini:5 [estimator.c]: deliberate create failure"},
   };
@@ -175,11 +175,11 @@ TEST(Run, StartupErrorsAreOneLineWithExitStatus2) {
 TEST(Run, PrintConfigShowsDefaults) {
   const fs::path dir = scratchDir("run_print");
   const fs::path config = writeConfig(dir, dir / "x.lcmlog", "[estimator.dr]\nplugin = deadreckoning\n");
-  const auto result = run(roamRun() + " " + config.string() + " --print-config --set estimator.dr.max_step_m=2.5");
+  const auto result = run(roamRun() + " " + config.string() + " --print-config --set estimator.dr.max_speed_mps=2.5");
   EXPECT_EQ(result.status, 0) << result.output;
   EXPECT_NE(result.output.find("[estimator.dr]\nplugin = deadreckoning\npose_channel = POSE_DR\n"),
             std::string::npos) << result.output;
-  EXPECT_NE(result.output.find("max_step_m = 2.5\n"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("max_speed_mps = 2.5\n"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("status_interval_s = 1\n"), std::string::npos) << result.output;
 }
 

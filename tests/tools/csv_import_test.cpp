@@ -42,7 +42,7 @@ TEST(CsvImport, ReadsColumnsByNameSortsRangesStably) {
   EXPECT_EQ(d.start.heading_rad, 0.5);
   ASSERT_EQ(d.odometry.size(), 2u);
   EXPECT_EQ(d.odometry[0].utime, 10200000);
-  EXPECT_EQ(d.odometry[0].delta_distance_m, 0.15);
+  EXPECT_EQ(d.odometry[0].forward_m, 0.15);
   EXPECT_EQ(d.odometry[0].delta_heading_rad, 0.1);
   ASSERT_EQ(d.beacons.size(), 2u);
   EXPECT_EQ(d.beacons[1].id, 1);
@@ -130,14 +130,14 @@ TEST(CsvImport, OdometryFromPath) {
   // keeps 0.25; step 3 = atan2(2, 0) = pi/2; step 4 = atan2(0, -1) = pi.
   // delta_heading of step k = dir(k+1) - dir(k): 0, pi/2 - 0.25, pi/2, 0 (last step).
   EXPECT_EQ(d.odometry[0].utime, 10200000);
-  EXPECT_NEAR(d.odometry[0].delta_distance_m, 5.0, kTolerance);
+  EXPECT_NEAR(d.odometry[0].forward_m, 5.0, kTolerance);
   EXPECT_NEAR(d.odometry[0].delta_heading_rad, 0.0, kTolerance);
-  EXPECT_NEAR(d.odometry[1].delta_distance_m, 0.0, kTolerance);
+  EXPECT_NEAR(d.odometry[1].forward_m, 0.0, kTolerance);
   EXPECT_NEAR(d.odometry[1].delta_heading_rad, M_PI / 2 - 0.25, kTolerance);
-  EXPECT_NEAR(d.odometry[2].delta_distance_m, 2.0, kTolerance);
+  EXPECT_NEAR(d.odometry[2].forward_m, 2.0, kTolerance);
   EXPECT_NEAR(d.odometry[2].delta_heading_rad, M_PI / 2, kTolerance);
   EXPECT_EQ(d.odometry[3].utime, 10800000);
-  EXPECT_NEAR(d.odometry[3].delta_distance_m, 1.0, kTolerance);
+  EXPECT_NEAR(d.odometry[3].forward_m, 1.0, kTolerance);
   EXPECT_NEAR(d.odometry[3].delta_heading_rad, 0.0, kTolerance);
 }
 

@@ -55,7 +55,7 @@ TEST(DatasetLog, EventOrder) {
   d.ground_truth[1].utime = 300;
   d.odometry.resize(1);
   d.odometry[0].utime = 300;
-  d.odometry[0].delta_distance_m = 0.5;
+  d.odometry[0].forward_m = 0.5;
   d.ranges.resize(3);
   d.ranges[0].utime = 50;  // before the start: still after INITIAL_POSE and BEACONS
   d.ranges[1].utime = 300;

@@ -66,7 +66,7 @@ std::vector<Odometry> loadOdometryCsv(const std::string& path) {
   std::vector<Odometry> odometry(table.rows());
   for (size_t r = 0; r < table.rows(); ++r) {
     odometry[r].utime = utimeFromSeconds(table.number(r, t));
-    odometry[r].delta_distance_m = table.number(r, d);
+    odometry[r].forward_m = table.number(r, d);
     odometry[r].delta_heading_rad = table.number(r, h);
     if (r > 0) checkTimeOrder(table, r, t, odometry[r - 1].utime, odometry[r].utime);
   }
@@ -93,11 +93,11 @@ std::vector<Odometry> odometryFromPathCsv(const std::string& path, const Pose& s
     const double px = table.number(r, x), py = table.number(r, y);
     const double dx = px - prev_x, dy = py - prev_y;
     odometry[k].utime = utime;
-    odometry[k].delta_distance_m = std::hypot(dx, dy);
+    odometry[k].forward_m = std::hypot(dx, dy);
     if (k == 0) {
       direction_rad[k] = has_heading ? table.number(0, table.column("heading_rad")) + heading_offset_rad
                                      : start.heading_rad;
-    } else if (odometry[k].delta_distance_m >= kMinStepForDirection_m) {
+    } else if (odometry[k].forward_m >= kMinStepForDirection_m) {
       direction_rad[k] = std::atan2(dy, dx);
     } else {
       direction_rad[k] = direction_rad[k - 1];  // no direction: carry the last one

@@ -1,5 +1,7 @@
 #include "sim.hpp"
 
+#include "roam/estimation/motion_model.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -48,6 +50,21 @@ std::vector<Control> loopControls(const SimConfig& c) {
   return std::vector<Control>(c.num_steps, Control{step_m, step_m / c.loop_radius_m});
 }
 
+std::vector<Control> figureEightControls(const SimConfig& c) {
+  // One full circle to the left, then one to the right, of radius loop_radius_m, repeated:
+  // the two lobes meet at the start.
+  const double step_m = c.speed_mps * c.dt_s;
+  const int lobe_steps = std::max(4, static_cast<int>(std::lround(2.0 * M_PI * c.loop_radius_m / step_m)));
+  const double turn = 2.0 * M_PI / lobe_steps;
+  const double arc_m = 2.0 * M_PI * c.loop_radius_m / lobe_steps;
+  std::vector<Control> controls;
+  for (int k = 0; k < c.num_steps; ++k) {
+    const bool left = (k / lobe_steps) % 2 == 0;
+    controls.push_back({arc_m, left ? turn : -turn});
+  }
+  return controls;
+}
+
 std::vector<Control> randomWalkControls(const SimConfig& c, std::mt19937_64& rng,
                                         const Pose& start) {
   // Smooth turn rate (Ornstein-Uhlenbeck, 5 s time constant) plus a pull back to the box.
@@ -82,8 +99,9 @@ PathKind parsePathKind(const std::string& name) {
   if (name == "random_walk") return PathKind::kRandomWalk;
   if (name == "lawn_mower") return PathKind::kLawnMower;
   if (name == "loop") return PathKind::kLoop;
+  if (name == "figure8") return PathKind::kFigureEight;
   throw std::invalid_argument("unknown path '" + name +
-                              "' (expected random_walk | lawn_mower | loop)");
+                              "' (expected random_walk | lawn_mower | loop | figure8)");
 }
 
 SimRun simulate(const SimConfig& c) {
@@ -101,6 +119,7 @@ SimRun simulate(const SimConfig& c) {
   switch (c.path) {
     case PathKind::kLawnMower: controls = lawnMowerControls(c); break;
     case PathKind::kLoop: controls = loopControls(c); break;
+    case PathKind::kFigureEight: controls = figureEightControls(c); break;
     case PathKind::kRandomWalk: controls = randomWalkControls(c, rng, run.start); break;
   }
 
@@ -112,15 +131,19 @@ SimRun simulate(const SimConfig& c) {
     const Control& u = controls[k];
     Pose next = pose;
     next.utime = pose.utime + dt_us;
-    next.x_m = pose.x_m + u.distance_m * std::cos(pose.heading_rad);
-    next.y_m = pose.y_m + u.distance_m * std::sin(pose.heading_rad);
-    next.heading_rad = pose.heading_rad + u.dheading_rad;
+    const Eigen::Vector3d moved = estimation::step(Eigen::Vector3d(pose.x_m, pose.y_m, pose.heading_rad),
+                                                   Eigen::Vector3d(u.distance_m, 0.0, u.dheading_rad));
+    next.x_m = moved[0];
+    next.y_m = moved[1];
+    next.heading_rad = moved[2];
     run.ground_truth.push_back(next);
     Odometry odo;
     odo.utime = next.utime;
     const double sigma_d = c.odo_distance_sigma_rel * u.distance_m + c.odo_distance_sigma_m;
-    odo.delta_distance_m = std::max(0.0, u.distance_m + sigma_d * normal(rng));
-    odo.delta_heading_rad = u.dheading_rad + c.odo_heading_sigma_rad * normal(rng);
+    odo.forward_m = std::max(0.0, c.odo_distance_scale * u.distance_m + sigma_d * normal(rng));
+    if (c.odo_lateral_sigma_rel > 0.0) odo.lateral_m = c.odo_lateral_sigma_rel * u.distance_m * normal(rng);
+    odo.delta_heading_rad = u.dheading_rad + c.odo_heading_bias_radps * c.dt_s +
+                            c.odo_heading_sigma_rad * normal(rng);
     run.odometry.push_back(odo);
     pose = next;
   }

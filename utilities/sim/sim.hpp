@@ -1,8 +1,12 @@
 // roam::sim — seeded synthetic range-only SLAM runs with ground truth.
 //
-// Motion model (the same convention as dead reckoning, so noise-free odometry integrates
-// exactly to the ground truth):  x += d cos(theta);  y += d sin(theta);  theta += dtheta.
-// Odometry is the true (d, dtheta) of each step plus Gaussian noise. Ranges are taken at pose
+// Motion model: the shared one (roam/estimation/motion_model.hpp), so noise-free odometry
+// integrates exactly to the ground truth: x += d cos(theta); y += d sin(theta); theta += dtheta.
+// Odometry is the true step distorted as a real sensor distorts it:
+//   forward = odo_distance_scale * d + noise,  lateral = noise,
+//   dtheta_reported = dtheta + odo_heading_bias_radps * dt + noise   (a gyro's bias)
+// so a calibrating estimator should recover distance_scale = 1 / odo_distance_scale and
+// heading_rate_bias = odo_heading_bias_radps. Ranges are taken at pose
 // times (the end of an odometry step) to beacons in the world frame:
 //   range = scale * |beacon - robot| + offset + noise,
 // noise ~ N(0, range_sigma) (or the two-component mixture), occasionally replaced by outliers.
@@ -18,7 +22,7 @@
 namespace roam {
 namespace sim {
 
-enum class PathKind { kRandomWalk, kLawnMower, kLoop };
+enum class PathKind { kRandomWalk, kLawnMower, kLoop, kFigureEight };
 enum class RangeSchedule {
   kEveryStepAllBeacons,  // every pose sees every beacon (complete measurement matrix)
   kRoundRobin            // one beacon at a time at range_rate_hz, cycling, like UWB
@@ -36,7 +40,7 @@ struct SimConfig {
   double area_width_m = 40.0;    // lawn-mower lane length / random-walk box width
   double area_height_m = 30.0;   // lawn-mower sweep height / random-walk box height
   double lane_spacing_m = 5.0;   // lawn-mower distance between lanes
-  double loop_radius_m = 15.0;   // loop path radius
+  double loop_radius_m = 15.0;   // loop path radius; each lobe of the figure-8
   double turn_rate_sigma_radps = 0.3;  // random walk: std of the smooth turn-rate process
 
   // Beacons: given, or num_beacons uniform in the box [-margin, W+margin] x [-margin, H+margin]
@@ -50,6 +54,9 @@ struct SimConfig {
   double odo_distance_sigma_rel = 0.0;
   double odo_distance_sigma_m = 0.0;
   double odo_heading_sigma_rad = 0.0;
+  double odo_lateral_sigma_rel = 0.0;    // lateral noise sigma per metre of the step
+  double odo_distance_scale = 1.0;       // reported forward = scale * true
+  double odo_heading_bias_radps = 0.0;   // reported turn = true + bias * dt
 
   RangeSchedule schedule = RangeSchedule::kEveryStepAllBeacons;
   double range_rate_hz = 2.0;       // round-robin rate (ranges per second, all beacons)
@@ -62,6 +69,7 @@ struct SimConfig {
   double mixture_weight1 = 0.0;
   double range_sigma1_m = 0.0;
   double outlier_fraction = 0.0;    // fraction of ranges replaced by true + U(outlier_min, max)
+                                    // (negative outlier_min: short ranges too, e.g. echoes)
   double outlier_min_m = 5.0;
   double outlier_max_m = 30.0;
 
@@ -75,7 +83,7 @@ using SimRun = Dataset;
 
 SimRun simulate(const SimConfig& config);
 
-// Parses "random_walk" | "lawn_mower" | "loop"; throws std::invalid_argument otherwise.
+// Parses "random_walk" | "lawn_mower" | "loop" | "figure8"; throws std::invalid_argument otherwise.
 PathKind parsePathKind(const std::string& name);
 
 }  // namespace sim

@@ -1,6 +1,9 @@
 // roam-import DIR -o LOG [--heading-offset RAD] [--odometry-from-path FILE]
-// A run in the CSV layout of ../shared/data/plaza1 (see utilities/dataset/csv_dataset.hpp) to an
-// LCM log (see dataset_log.hpp). Prints a one-line summary; exit 2 with a one-line error.
+// roam-import FILE.pyfg -o LOG [--forward-axis x|y|auto]
+// A run in the CSV layout of ../shared/data/plaza1 (see utilities/dataset/csv_dataset.hpp) or a
+// pyfg file (utilities/dataset/pyfg_dataset.hpp) to an LCM log (see dataset_log.hpp). The format
+// is known from the argument (a folder: csv; a name ending in .pyfg: pyfg) or --format. Prints
+// a one-line summary; exit 2 with a one-line error.
 #include <boost/program_options.hpp>
 #include <cstdio>
 #include <exception>
@@ -9,18 +12,24 @@
 
 #include "csv_dataset.hpp"
 #include "dataset_log.hpp"
+#include "pyfg_dataset.hpp"
 
 namespace po = boost::program_options;
 
 int main(int argc, char** argv) {
-  std::string dir, output;
+  std::string dir, output, format, forward_axis = "auto";
   roam::CsvImportOptions options;
   po::options_description visible(
       "roam-import DIR -o LOG: a run in the CSV layout (odometry.csv, ranges.csv, groundtruth.csv,\n"
-      "landmarks.csv) to an LCM log with INITIAL_POSE, BEACONS, GROUND_TRUTH, ODOMETRY, RANGE");
+      "landmarks.csv) to an LCM log with INITIAL_POSE, BEACONS, GROUND_TRUTH, ODOMETRY, RANGE\n"
+      "roam-import FILE.pyfg -o LOG: the same from a pyfg file (2-D, one robot)");
   visible.add_options()
       ("help,h", "this help")
       ("output,o", po::value(&output), "the LCM log to write (required)")
+      ("format", po::value(&format), "csv | pyfg (default: pyfg for a name ending in .pyfg, csv for a folder)")
+      ("forward-axis", po::value(&forward_axis)->default_value(forward_axis),
+       "pyfg: the body axis the robot moves along: x | y | auto (y when the edges' median |dy| is "
+       "over twice their median |dx|)")
       ("heading-offset", po::value(&options.heading_offset_rad)->default_value(0.0),
        "RAD added to every ground-truth heading (e.g. 3.14159265 for reversed headings)")
       ("odometry-from-path", po::value(&options.odometry_from_path),
@@ -38,8 +47,32 @@ int main(int argc, char** argv) {
       return 0;
     }
     po::notify(vm);
-    if (dir.empty()) throw std::runtime_error("missing DIR (the folder with the CSV files)");
+    if (dir.empty()) throw std::runtime_error("missing DIR or FILE.pyfg (the run to import)");
     if (output.empty()) throw std::runtime_error("missing -o LOG (the log to write)");
+    if (format.empty()) {
+      const bool pyfg_name = dir.size() > 5 && dir.compare(dir.size() - 5, 5, ".pyfg") == 0;
+      format = pyfg_name ? "pyfg" : "csv";
+    }
+    if (format == "pyfg") {
+      roam::PyfgImportOptions pyfg;
+      if (forward_axis == "x") pyfg.forward_axis = roam::ForwardAxis::kX;
+      else if (forward_axis == "y") pyfg.forward_axis = roam::ForwardAxis::kY;
+      else if (forward_axis != "auto") throw std::runtime_error("--forward-axis: expected x | y | auto, got '" + forward_axis + "'");
+      if (!vm["heading-offset"].defaulted() || !options.odometry_from_path.empty())
+        throw std::runtime_error("--heading-offset and --odometry-from-path are for the CSV layout, not pyfg");
+      const roam::PyfgImport imported = roam::loadPyfgDataset(dir, pyfg);
+      const roam::Dataset& dataset = imported.dataset;
+      const roam::LogWriteSummary s = roam::writeDatasetLog(output, dataset);
+      std::printf("roam-import: %s: %ld events (%ld odometry, %ld ranges, %ld ground truth, %ld beacons), "
+                  "%.3f s from utime %lld; body frame forward axis %s%s\n",
+                  output.c_str(), s.events, s.odometry, s.ranges, s.ground_truth, s.beacons,
+                  1e-6 * static_cast<double>(dataset.ground_truth.back().utime - dataset.start.utime),
+                  static_cast<long long>(dataset.start.utime),
+                  imported.forward_axis == roam::ForwardAxis::kY ? "+y (headings + pi/2)" : "+x",
+                  forward_axis == "auto" ? " (auto)" : "");
+      return 0;
+    }
+    if (format != "csv") throw std::runtime_error("--format: expected csv | pyfg, got '" + format + "'");
     const roam::Dataset dataset = roam::loadCsvDataset(dir, options);
     const roam::LogWriteSummary s = roam::writeDatasetLog(output, dataset);
     std::printf("roam-import: %s: %ld events (%ld odometry%s, %ld ranges, %ld ground truth, %ld beacons), "

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "roam/estimator_status_t.hpp"
+#include "roam/estimation/motion_model.hpp"
 #include "roam/messages.hpp"
 #include "roam/safe_decode.hpp"
 
@@ -135,10 +136,7 @@ Path integrateOdometry(const Pose& start, const std::vector<Odometry>& odometry)
   pose.covariance.fill(kNaN);
   path.push_back(pose);
   for (const Odometry& step : odometry) {
-    pose.utime = step.utime;
-    pose.x_m += step.delta_distance_m * std::cos(pose.heading_rad);
-    pose.y_m += step.delta_distance_m * std::sin(pose.heading_rad);
-    pose.heading_rad += step.delta_heading_rad;
+    pose = estimation::step(pose, step);
     path.push_back(pose);
   }
   return path;

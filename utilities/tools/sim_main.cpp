@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
       ("start-x", po::value(&start_x)->default_value(0.0), "start pose x (m)")
       ("start-y", po::value(&start_y)->default_value(0.0), "start pose y (m)")
       ("start-heading", po::value(&start_heading)->default_value(0.0), "start pose heading (rad)")
-      ("path", po::value(&path_kind)->default_value(path_kind), "random_walk | lawn_mower | loop")
+      ("path", po::value(&path_kind)->default_value(path_kind), "random_walk | lawn_mower | loop | figure8")
       ("area-width", po::value(&c.area_width_m)->default_value(c.area_width_m), "lane length / box width (m)")
       ("area-height", po::value(&c.area_height_m)->default_value(c.area_height_m), "sweep / box height (m)")
       ("lane-spacing", po::value(&c.lane_spacing_m)->default_value(c.lane_spacing_m), "lawn-mower lane spacing (m)")
@@ -54,6 +54,12 @@ int main(int argc, char** argv) {
        "odometry distance noise (m per step)")
       ("odo-heading-sigma", po::value(&c.odo_heading_sigma_rad)->default_value(c.odo_heading_sigma_rad),
        "odometry heading noise (rad per step)")
+      ("odo-lateral-sigma-rel", po::value(&c.odo_lateral_sigma_rel)->default_value(c.odo_lateral_sigma_rel),
+       "lateral odometry noise std per metre of the step")
+      ("odo-distance-scale", po::value(&c.odo_distance_scale)->default_value(c.odo_distance_scale),
+       "reported forward distance = scale * true (an odometry scale error)")
+      ("gyro-bias", po::value(&c.odo_heading_bias_radps)->default_value(c.odo_heading_bias_radps),
+       "reported turn = true + bias * dt (rad/s; a drifting gyro)")
       ("schedule", po::value(&schedule)->default_value(schedule),
        "all (every beacon at every pose) | round_robin (one beacon at a time, like UWB)")
       ("range-rate", po::value(&c.range_rate_hz)->default_value(c.range_rate_hz), "round robin: ranges per second")

@@ -87,7 +87,7 @@ RunData simulateRun(uint64_t seed, const std::vector<Control>& controls, const P
     const double psi_rad = controls[t].psi_rad + kSigmaPsi_rad * normal(rng);
     Odometry o;
     o.utime = p.utime;
-    o.delta_distance_m = v_mps * kDt_s;
+    o.forward_m = v_mps * kDt_s;
     o.delta_heading_rad = v_mps * kDt_s * std::sin(psi_rad) / kWheelbase_m;
     run.odometry.push_back(o);
     for (const Beacon& b : map) {

@@ -5,8 +5,9 @@
  *
  *     const roam_plugin_descriptor* roam_plugin_entry(void);
  *
- * that returns a descriptor with static storage. The host checks `abi_version`
- * and `descriptor_size` before touching anything else, then calls `create` once per
+ * that returns a descriptor with static storage. The host checks `abi_version`,
+ * `descriptor_size` and the size and alignment of every struct in `layouts` before touching
+ * anything else, then calls `create` once per
  * configured instance. Every call returns a status (ROAM_OK or ROAM_ERROR); on error the
  * instance's `last_error` tells why. No C++ exception may cross this boundary.
  *
@@ -28,7 +29,7 @@ extern "C" {
 #endif
 
 /* Bump on any change to the structs or function table below. */
-#define ROAM_PLUGIN_ABI_VERSION 1u
+#define ROAM_PLUGIN_ABI_VERSION 2u
 #define ROAM_PLUGIN_ENTRY_SYMBOL "roam_plugin_entry"
 
 #define ROAM_OK 0
@@ -41,10 +42,13 @@ enum roam_state {
   ROAM_STATE_FAILED = 3
 };
 
+/* An SE(2) step in the robot frame at its start: forward, lateral (left), heading change. */
 typedef struct roam_odometry {
   int64_t utime; /* end of the step */
-  double delta_distance_m;
+  double forward_m;
+  double lateral_m;
   double delta_heading_rad;
+  double covariance[9]; /* row-major over (forward, lateral, heading); NaN where unknown */
 } roam_odometry;
 
 typedef struct roam_range {
@@ -96,9 +100,34 @@ typedef struct roam_status {
 
 typedef void* roam_handle;
 
+/* sizeof and alignof of one struct that crosses the boundary, as the plugin was compiled. */
+typedef struct roam_struct_layout {
+  uint32_t size;
+  uint32_t align;
+} roam_struct_layout;
+
+/* The structs in roam_plugin_descriptor.layouts, in this order. */
+#define ROAM_ABI_NUM_STRUCTS 7
+#define ROAM_ABI_STRUCT_NAMES \
+  { "roam_odometry", "roam_range", "roam_pose", "roam_beacon", "roam_kv", "roam_error", "roam_status" }
+#ifdef __cplusplus
+#define ROAM_ALIGNOF(T) alignof(T)
+#else
+#define ROAM_ALIGNOF(T) _Alignof(T)
+#endif
+#define ROAM_LAYOUT_OF(T) { (uint32_t)sizeof(T), (uint32_t)ROAM_ALIGNOF(T) }
+#define ROAM_ABI_LAYOUTS                                                                         \
+  {                                                                                              \
+    ROAM_LAYOUT_OF(roam_odometry), ROAM_LAYOUT_OF(roam_range), ROAM_LAYOUT_OF(roam_pose),        \
+        ROAM_LAYOUT_OF(roam_beacon), ROAM_LAYOUT_OF(roam_kv), ROAM_LAYOUT_OF(roam_error),        \
+        ROAM_LAYOUT_OF(roam_status)                                                              \
+  }
+
 typedef struct roam_plugin_descriptor {
   uint32_t abi_version;     /* ROAM_PLUGIN_ABI_VERSION */
   uint32_t descriptor_size; /* sizeof(roam_plugin_descriptor) */
+  /* ROAM_ABI_LAYOUTS: the host rejects a plugin whose structs differ from its own. */
+  roam_struct_layout layouts[ROAM_ABI_NUM_STRUCTS];
   const char* name;         /* e.g. "spectral" */
   const char* description;  /* one line */
 

@@ -13,8 +13,10 @@
 // Every entry point catches exceptions, stores the message and returns ROAM_ERROR; nothing
 // crosses the boundary. Inputs that are not finite are rejected (and counted) here, before
 // the estimator sees them, so every plugin gets the same basic hygiene. So are implausibly
-// long ranges: every plugin has the option `max_range_m` (default kDefaultMaxRange_m), added
-// here before the plugin's own options, so a plugin must not declare a key of that name.
+// long ranges and odometry that goes back in time or moves faster than a vehicle can: every
+// plugin has the options `max_range_m` (default kDefaultMaxRange_m) and `max_speed_mps`
+// (default kDefaultMaxSpeed_mps), added here before the plugin's own options, so a plugin must
+// not declare keys of those names.
 #pragma once
 
 #include <cstring>
@@ -36,10 +38,29 @@ using Factory = std::unique_ptr<Estimator> (*)(Options& options);
 // (beacon radios reach a few hundred metres; a glitch reads 655.35 m or 1e9 m).
 constexpr double kDefaultMaxRange_m = 1000.0;
 
+// Odometry steps faster than this are rejected as jumps (a glitch, a reset counter). 30 m/s is
+// above any ground robot, boat or AUV roam is meant for; a car on a road raises it. The step is
+// compared with max_speed_mps * max(dt, 1 s): logs stamped in whole seconds, and steps with the
+// same time as the previous one, are not rejected for their time resolution.
+constexpr double kDefaultMaxSpeed_mps = 30.0;
+
+// The SDK's odometry check, the same for every plugin: finite, not back in time, not faster
+// than max_speed_mps. Returns "" or the reason for the rejection.
+class OdometryCheck {
+ public:
+  double max_speed_mps = kDefaultMaxSpeed_mps;
+  std::string check(const roam_odometry& odometry) const;
+  void accepted(const roam_odometry& odometry);
+
+ private:
+  bool have_last_ = false;
+  int64_t last_utime_ = 0;
+};
 // One plugin instance on the C side: the estimator and the buffers handed across.
 struct Instance {
   std::unique_ptr<Estimator> estimator;
   double max_range_m = kDefaultMaxRange_m;  // the SDK's own option
+  OdometryCheck odometry_check;             // holds the SDK's max_speed_mps option
   std::string last_error;
   KeyValues effective;
   std::vector<roam_kv> effective_view;
@@ -62,7 +83,7 @@ Odometry fromC(const roam_odometry& odometry);
 roam_range toC(const Range& range);
 Range fromC(const roam_range& range);
 // "" if usable, else the reason (non-finite value, negative range, ...).
-std::string checkOdometry(const roam_odometry& odometry);
+std::string checkOdometry(const roam_odometry& odometry);  // finite values only
 std::string checkRange(const roam_range& range);
 void copyError(roam_error* error, const std::string& key, const std::string& message);
 
@@ -93,6 +114,7 @@ const char* lastError(roam_handle h);
     static const roam_plugin_descriptor descriptor = {                                          \
         ROAM_PLUGIN_ABI_VERSION,                                                                \
         static_cast<uint32_t>(sizeof(roam_plugin_descriptor)),                                  \
+        ROAM_ABI_LAYOUTS,                                                                       \
         NAME,                                                                                   \
         DESCRIPTION,                                                                            \
         &roam_shim_create,                                                                      \

@@ -11,10 +11,19 @@ namespace roam {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+// One odometry step as an SE(2) increment in the robot frame at the start of the step:
+// forward along the heading, lateral to its left, then the heading change. The classic
+// "move d along the heading, then turn" is the case lateral_m = 0.
 struct Odometry {
   int64_t utime = 0;  // end of the step
-  double delta_distance_m = 0.0;
+  double forward_m = 0.0;
+  double lateral_m = 0.0;
   double delta_heading_rad = 0.0;
+  // Row-major over (forward, lateral, heading); NaN: unknown, the estimator's configured noise.
+  std::array<double, 9> covariance{kNaN, kNaN, kNaN, kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
+
+  // Every entry finite and every variance > 0 (a zero-filled covariance counts as unknown).
+  bool hasCovariance() const;
 };
 
 struct Range {

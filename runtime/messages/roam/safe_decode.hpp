@@ -19,6 +19,7 @@ namespace roam {
 
 // As Message::decode(data, 0, size): the number of bytes used, or -1 if the bytes are not a
 // message of that type (including every case where LCM's decoder would throw or over-allocate).
+// odometry_t also reads the older odometry_v1_t layout (lateral 0, covariance NaN).
 int decodeMessage(const void* data, int size, roam::odometry_t* message);
 int decodeMessage(const void* data, int size, roam::range_t* message);
 int decodeMessage(const void* data, int size, roam::pose_t* message);

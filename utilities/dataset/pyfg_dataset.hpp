@@ -1,0 +1,65 @@
+// pyfg (PyFactorGraph's text format, read by CORA and GTSAM's range-aided examples) in and out
+// of a roam::Dataset. 2-D, one robot, range-aided SLAM:
+//
+//   VERTEX_SE2 t A<i> x y theta               reference pose i (ground truth; the first is the
+//                                             start pose); its time t (s) is the step's time
+//   VERTEX_XY L<j> x y                        beacon j at its surveyed position
+//   VERTEX_XY:PRIOR t L<j> x y c11 c12 c22    that beacon's position covariance
+//   EDGE_SE2 t A<i> A<i+1> dx dy dtheta c11 c12 c13 c22 c23 c33
+//                                             odometry from pose i to i+1 in the frame of pose
+//                                             i, with its covariance (upper triangle, row by row)
+//   EDGE_RANGE t A<i> L<j> range variance     a range from pose i to beacon j, taken at pose i's
+//                                             time; sigma = sqrt(variance)
+//
+// Edge time stamps are ignored (the published files carry 0): an odometry edge ends at the
+// time of its second pose, a range is stamped with its pose's time. Ranges are sorted by time
+// (stable: equal times keep file order).
+//
+// The body frame: roam's robot moves along +x. forward_axis = y maps a file whose body frame
+// moves along +y (GOATS' vehicle): heading = theta + pi/2, and an edge (dx, dy) is forward dy,
+// lateral -dx, its covariance rotated the same way. auto picks y when the median |dy| of the
+// edges is more than twice their median |dx|. Positions and every dead-reckoned position are
+// the same whichever is chosen; only headings and the forward/lateral split differ.
+//
+// Refused with "<file>:<line>: ..." (never skipped): 3-D types, several robots, inter-robot
+// or pose-pose ranges, odometry edges that are not between consecutive poses (loop closures),
+// pose-landmark edges, pose priors, unknown types, bad numbers, unknown or repeated names, a
+// pose without its odometry edge.
+#pragma once
+
+#include <string>
+
+#include "dataset.hpp"
+
+namespace roam {
+
+enum class ForwardAxis { kX, kY, kAuto };
+
+struct PyfgImportOptions {
+  ForwardAxis forward_axis = ForwardAxis::kAuto;
+};
+
+struct PyfgImport {
+  Dataset dataset;
+  ForwardAxis forward_axis = ForwardAxis::kX;  // the axis used (auto resolved)
+  int robot_letter = 'A';
+};
+
+// Throws std::runtime_error naming the file and line.
+PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& options = {});
+
+// Writes `dataset` as pyfg: dataset.ground_truth as the VERTEX_SE2 poses (one per odometry step
+// plus the start, at the odometry times), beacons as VERTEX_XY (with :PRIOR where their
+// covariance is known), odometry as EDGE_SE2 and ranges as EDGE_RANGE on the pose at or
+// before their time. Odometry without a covariance gets `unknown_odometry_sigma` (forward and
+// lateral, m) and `unknown_heading_sigma_rad`; ranges without a sigma `unknown_range_sigma_m`.
+// Numbers are printed so that loadPyfgDataset reads back the same doubles.
+struct PyfgWriteOptions {
+  ForwardAxis forward_axis = ForwardAxis::kX;  // kY writes a +y-forward body frame
+  double unknown_odometry_sigma_m = 0.1;
+  double unknown_heading_sigma_rad = 0.01;
+  double unknown_range_sigma_m = 1.0;
+};
+void writePyfg(const std::string& path, const Dataset& dataset, const PyfgWriteOptions& options = {});
+
+}  // namespace roam
