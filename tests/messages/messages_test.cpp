@@ -8,6 +8,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "roam/messages.hpp"
+#include "roam/odometry_v1_t.hpp"
 #include "roam/safe_decode.hpp"
 
 namespace {
@@ -55,11 +56,37 @@ TEST(Messages, OdometryRoundTrip) {
   roam::Odometry in;
   in.utime = 3856880000;
   in.forward_m = 0.1875;
+  in.lateral_m = -0.5;
   in.delta_heading_rad = -0.015625;
+  in.covariance = {0.04, 0.01, 0, 0.01, 0.09, 0, 0, 0, 1e-4};
   const roam::Odometry out = roam::fromMessage(roundTrip(roam::toMessage(in)));
   EXPECT_EQ(out.utime, in.utime);
   EXPECT_EQ(out.forward_m, in.forward_m);
+  EXPECT_EQ(out.lateral_m, in.lateral_m);
   EXPECT_EQ(out.delta_heading_rad, in.delta_heading_rad);
+  EXPECT_EQ(out.covariance, in.covariance);
+  EXPECT_TRUE(out.hasCovariance());
+}
+
+TEST(Messages, OdometryFromAnOldLogIsAStepWithoutLateralMotionOrCovariance) {
+  // roam's first logs hold odometry_v1_t's bytes (utime, distance, heading): 8 + 24 bytes.
+  roam::odometry_v1_t old;
+  old.utime = 42;
+  old.delta_distance = 0.25;
+  old.delta_heading = 0.125;
+  std::vector<uint8_t> bytes(static_cast<size_t>(old.getEncodedSize()));
+  ASSERT_EQ(old.encode(bytes.data(), 0, static_cast<int>(bytes.size())), 32);
+  roam::odometry_t message;
+  ASSERT_EQ(roam::decodeMessage(bytes.data(), static_cast<int>(bytes.size()), &message), 32);
+  const roam::Odometry out = roam::fromMessage(message);
+  EXPECT_EQ(out.utime, 42);
+  EXPECT_EQ(out.forward_m, 0.25);
+  EXPECT_EQ(out.delta_heading_rad, 0.125);
+  EXPECT_EQ(out.lateral_m, 0.0);
+  EXPECT_FALSE(out.hasCovariance());
+  EXPECT_TRUE(std::isnan(out.covariance[0]));
+  // Bytes of neither layout are refused.
+  EXPECT_EQ(roam::decodeMessage(bytes.data(), 20, &message), -1);
 }
 
 TEST(Messages, RangeRoundTrip) {

@@ -1,0 +1,196 @@
+// pyfg in and out (utilities/dataset/pyfg_dataset.hpp): the real GOATS 16 file, dead reckoning
+// against the file's own edges, a write/read round trip, and every refusal naming file and line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "pyfg_dataset.hpp"
+#include "roam/estimation/motion_model.hpp"
+#include "tool_test_util.hpp"
+
+namespace {
+
+const std::string kGoats = std::string(ROAM_SOURCE_DIR) + "/../shared/data/goats16/goats_16.pyfg";
+constexpr double kTolerance_m = 1e-9;
+
+TEST(Pyfg, ReadsGoats16) {
+  const roam::PyfgImport imported = roam::loadPyfgDataset(kGoats);
+  const roam::Dataset& d = imported.dataset;
+  // README of the data: 201 poses, 200 odometry edges, 572 ranges, 4 beacons, 1,473 s.
+  EXPECT_EQ(d.ground_truth.size(), 201u);
+  EXPECT_EQ(d.odometry.size(), 200u);
+  EXPECT_EQ(d.ranges.size(), 572u);
+  ASSERT_EQ(d.beacons.size(), 4u);
+  EXPECT_EQ(d.beacons[0].id, 0);
+  EXPECT_EQ(d.beacons[0].x_m, 730.9);  // VERTEX_XY L0 730.900000000 82.000000000
+  EXPECT_EQ(d.ground_truth.back().utime - d.start.utime, 1473000000);
+  // The vehicle moves along its body +y: auto picks y, headings turn by +pi/2.
+  EXPECT_EQ(imported.forward_axis, roam::ForwardAxis::kY);
+  EXPECT_NEAR(d.start.heading_rad, 2.8835235 + M_PI / 2, 1e-12);
+  // A2's time (8 s) on the edge A1 -> A2; the first range line "A7 L0 322.07508 0.5625" at A7's time, sigma 0.75.
+  EXPECT_EQ(d.odometry[1].utime, 8000000);
+  for (size_t i = 1; i < d.ranges.size(); ++i) EXPECT_LE(d.ranges[i - 1].utime, d.ranges[i].utime);
+  bool found = false;
+  for (const roam::Range& r : d.ranges) {
+    if (r.beacon_id == 0 && r.range_m == 322.07508) {
+      EXPECT_EQ(r.utime, d.ground_truth[7].utime);
+      EXPECT_EQ(r.sigma_m, 0.75);
+      found = true;
+    }
+  }
+  EXPECT_TRUE(found);
+  // Edge covariance diag(0.0004, 0.0004, 0.000004) in the file's (dx, dy): forward takes dy's.
+  EXPECT_EQ(d.odometry[0].covariance[0], 0.0004);
+  EXPECT_EQ(d.odometry[0].covariance[8], 0.000004);
+}
+
+TEST(Pyfg, DeadReckoningIsTheCompositionOfTheFilesOwnEdges) {
+  // Compose the file's edges by hand in the file's own frame (x' = x + cos(t) dx - sin(t) dy),
+  // from its first pose, and compare with roam's motion model over the imported odometry, with
+  // either body axis: the positions must agree to 1e-9 m.
+  std::ifstream in(kGoats);
+  std::string line;
+  double x = 0, y = 0, t = 0;
+  bool have_start = false;
+  std::vector<std::pair<double, double>> by_hand;
+  while (std::getline(in, line)) {
+    std::istringstream w(line);
+    std::string type;
+    w >> type;
+    if (type == "VERTEX_SE2" && !have_start) {
+      std::string time, name;
+      w >> time >> name >> x >> y >> t;
+      have_start = true;
+      by_hand.push_back({x, y});
+    } else if (type == "EDGE_SE2") {
+      std::string time, from, to;
+      double dx, dy, dt;
+      w >> time >> from >> to >> dx >> dy >> dt;
+      x += std::cos(t) * dx - std::sin(t) * dy;
+      y += std::sin(t) * dx + std::cos(t) * dy;
+      t += dt;
+      by_hand.push_back({x, y});
+    }
+  }
+  ASSERT_EQ(by_hand.size(), 201u);
+  for (roam::ForwardAxis axis : {roam::ForwardAxis::kX, roam::ForwardAxis::kY}) {
+    roam::PyfgImportOptions options;
+    options.forward_axis = axis;
+    const roam::Dataset d = roam::loadPyfgDataset(kGoats, options).dataset;
+    roam::Pose pose = d.start;
+    double worst = 0.0;
+    for (size_t k = 0; k < d.odometry.size(); ++k) {
+      pose = roam::estimation::step(pose, d.odometry[k]);
+      worst = std::max(worst, std::hypot(pose.x_m - by_hand[k + 1].first, pose.y_m - by_hand[k + 1].second));
+    }
+    EXPECT_LT(worst, kTolerance_m);
+  }
+}
+
+TEST(Pyfg, WritingAndReadingBackReproducesEveryPoseBeaconAndRange) {
+  roam_test::ScratchDir dir;
+  for (roam::ForwardAxis axis : {roam::ForwardAxis::kX, roam::ForwardAxis::kY}) {
+    roam::PyfgImportOptions read_options;
+    read_options.forward_axis = axis;
+    const roam::Dataset original = roam::loadPyfgDataset(kGoats, read_options).dataset;
+    roam::PyfgWriteOptions write_options;
+    write_options.forward_axis = axis;
+    roam::writePyfg(dir.file("copy.pyfg"), original, write_options);
+    const roam::Dataset copy = roam::loadPyfgDataset(dir.file("copy.pyfg"), read_options).dataset;
+    ASSERT_EQ(copy.ground_truth.size(), original.ground_truth.size());
+    for (size_t i = 0; i < copy.ground_truth.size(); ++i) {
+      EXPECT_EQ(copy.ground_truth[i].utime, original.ground_truth[i].utime);
+      EXPECT_EQ(copy.ground_truth[i].x_m, original.ground_truth[i].x_m);
+      EXPECT_EQ(copy.ground_truth[i].y_m, original.ground_truth[i].y_m);
+      EXPECT_NEAR(copy.ground_truth[i].heading_rad, original.ground_truth[i].heading_rad, 1e-15);
+    }
+    ASSERT_EQ(copy.odometry.size(), original.odometry.size());
+    for (size_t k = 0; k < copy.odometry.size(); ++k) {
+      EXPECT_EQ(copy.odometry[k].utime, original.odometry[k].utime);
+      EXPECT_EQ(copy.odometry[k].forward_m, original.odometry[k].forward_m);
+      EXPECT_EQ(copy.odometry[k].lateral_m, original.odometry[k].lateral_m);
+      EXPECT_EQ(copy.odometry[k].delta_heading_rad, original.odometry[k].delta_heading_rad);
+      for (int i = 0; i < 9; ++i) EXPECT_EQ(copy.odometry[k].covariance[i], original.odometry[k].covariance[i]);
+    }
+    ASSERT_EQ(copy.ranges.size(), original.ranges.size());
+    for (size_t k = 0; k < copy.ranges.size(); ++k) {
+      EXPECT_EQ(copy.ranges[k].utime, original.ranges[k].utime);
+      EXPECT_EQ(copy.ranges[k].beacon_id, original.ranges[k].beacon_id);
+      EXPECT_EQ(copy.ranges[k].range_m, original.ranges[k].range_m);
+      EXPECT_EQ(copy.ranges[k].sigma_m, original.ranges[k].sigma_m);
+    }
+    ASSERT_EQ(copy.beacons.size(), original.beacons.size());
+    for (size_t k = 0; k < copy.beacons.size(); ++k) {
+      EXPECT_EQ(copy.beacons[k].id, original.beacons[k].id);
+      EXPECT_EQ(copy.beacons[k].x_m, original.beacons[k].x_m);
+      EXPECT_EQ(copy.beacons[k].y_m, original.beacons[k].y_m);
+    }
+  }
+}
+
+TEST(Pyfg, BeaconPriorsBecomeBeaconCovariances) {
+  roam_test::ScratchDir dir;
+  dir.write("p.pyfg",
+            "VERTEX_SE2 0.0 A0 0 0 0\nVERTEX_SE2 1.5 A1 1 0 0\nVERTEX_XY L2 5 6\n"
+            "VERTEX_XY:PRIOR 0.0 L2 5 6 0.25 0.01 0.36\n"
+            "EDGE_SE2 0 A0 A1 1 0 0 0.01 0 0 0.01 0 0.0001\nEDGE_RANGE 0 A1 L2 7.2 0.09\n");
+  const roam::Dataset d = roam::loadPyfgDataset(dir.file("p.pyfg")).dataset;
+  ASSERT_EQ(d.beacons.size(), 1u);
+  EXPECT_EQ(d.beacons[0].id, 2);
+  EXPECT_EQ(d.beacons[0].covariance[0], 0.25);
+  EXPECT_EQ(d.beacons[0].covariance[2], 0.01);
+  EXPECT_EQ(d.beacons[0].covariance[3], 0.36);
+  ASSERT_EQ(d.ranges.size(), 1u);
+  EXPECT_EQ(d.ranges[0].utime, 1500000);
+  EXPECT_NEAR(d.ranges[0].sigma_m, 0.3, 1e-15);
+}
+
+TEST(Pyfg, WhatIsNotSupportedIsRefusedNamingTheLine) {
+  roam_test::ScratchDir dir;
+  const std::string head = "VERTEX_SE2 0.0 A0 0 0 0\nVERTEX_SE2 1.0 A1 1 0 0\nVERTEX_XY L0 5 5\n";
+  const std::string edge = "EDGE_SE2 0 A0 A1 1 0 0 0.01 0 0 0.01 0 0.0001\n";
+  struct Case {
+    std::string body, expected;
+  };
+  const Case cases[] = {
+      {head + edge + "VERTEX_SE3:QUAT 0 A2 0 0 0 0 0 0 1\n", ":5: VERTEX_SE3:QUAT: 3-D data is not supported (roam is 2-D)"},
+      {head + edge + "VERTEX_SE2 2.0 B0 0 0 0\n", ":5: several robots ('A' and 'B') are not supported: roam runs one robot per log"},
+      {head + edge + "EDGE_RANGE 0 A0 A1 3.0 0.01\n", ":5: EDGE_RANGE A0 A1: ranges between poses (inter-robot ranges) are not supported"},
+      {head + "VERTEX_SE2 2.0 A2 2 0 0\n" + edge + "EDGE_SE2 0 A0 A2 2 0 0 0.01 0 0 0.01 0 0.0001\n",
+       ":6: EDGE_SE2 A0 -> A2: only odometry between consecutive poses is supported (loop closures are not)"},
+      {head + edge + "EDGE_RANGE 0 A1 L0 4.x 0.01\n", ":5: EDGE_RANGE: range: expected a number, got '4.x'"},
+      {head + edge + "EDGE_RANGE 0 A1 L7 4.0 0.01\n", ":5: beacon 'L7' has no VERTEX_XY"},
+      {head + edge + "EDGE_RANGE 0 A1 L0 4.0\n", ":5: EDGE_RANGE: expected 5 fields (time a b range variance), got 4"},
+      {head + edge + "EDGE_SE2_XY 0 A1 L0 1 2 0.1 0 0.1\n", ":5: EDGE_SE2_XY: pose-landmark relative measurements are not supported (ranges only)"},
+      {head + edge + "VERTEX_SE2:PRIOR 0 A0 0 0 0 1 0 0 1 0 1\n", ":5: VERTEX_SE2:PRIOR: pose priors are not supported"},
+      {head + edge + "FOO 1 2\n", ":5: unknown type 'FOO'"},
+      {head, ":2: pose A1 has no EDGE_SE2 from A0"},
+  };
+  for (const Case& c : cases) {
+    dir.write("bad.pyfg", c.body);
+    try {
+      roam::loadPyfgDataset(dir.file("bad.pyfg"));
+      ADD_FAILURE() << "accepted: " << c.body;
+    } catch (const std::runtime_error& error) {
+      EXPECT_EQ(std::string(error.what()).rfind(dir.file("bad.pyfg") + c.expected, 0), 0u)
+          << error.what() << "\nexpected: " << c.expected;
+    }
+  }
+}
+
+TEST(Pyfg, RoamImportTakesAPyfgFile) {
+  roam_test::ScratchDir dir;
+  const auto result = roam_test::runTool(roam_test::tool("roam-import") + " " + kGoats + " -o " + dir.file("g.lcmlog"));
+  EXPECT_EQ(result.status, 0) << result.out;
+  EXPECT_NE(result.out.find("975 events (200 odometry, 572 ranges, 201 ground truth, 4 beacons)"), std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find("forward axis +y (headings + pi/2) (auto)"), std::string::npos) << result.out;
+  const auto bad = roam_test::runTool(roam_test::tool("roam-import") + " " + kGoats + " -o " + dir.file("g.lcmlog") +
+                                      " --forward-axis z");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.out.find("--forward-axis: expected x | y | auto, got 'z'"), std::string::npos) << bad.out;
+}
+
+}  // namespace
