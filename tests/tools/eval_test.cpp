@@ -294,4 +294,86 @@ TEST(Export, WritesThePathRoamEvalScores) {
   EXPECT_EQ(missing.out, "roam-export: error: " + log + ": no estimator 'nope' (found: fix, smooth)\n");
 }
 
+TEST(Eval, APathCoveringLittleOfTheRunShowsItsCoverageAndIsNotRanked) {
+  // Ground truth 20 poses; "quit" published one pose (t = 0, exact) and gave up: 1 of 20 matched,
+  // 5 % coverage, error 0.00 over what it covers, shown in parentheses and not ranked.
+  roam_test::ScratchDir dir;
+  const std::string path = dir.file("quit.lcmlog");
+  {
+    LogWriter log(path);
+    log.write("INITIAL_POSE", 0, pose(0, 0, 0));
+    for (int t = 0; t < 20; ++t) log.write("GROUND_TRUTH", t * 1000000LL, pose(t * 1000000LL, t, 0));
+    log.write("POSE_QUIT", 0, pose(0, 0, 0, "quit"));
+  }
+  const roam_test::ToolResult text = roam_test::runTool(roam_test::tool("roam-eval") + " " + path + " --metric mean");
+  ASSERT_EQ(text.status, 0) << text.out;
+  EXPECT_NE(text.out.find("(0.00)"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("5 % (partial)"), std::string::npos) << text.out;
+  const roam_test::ToolResult csv = roam_test::runTool(roam_test::tool("roam-eval") + " " + path + " --format csv");
+  ASSERT_EQ(csv.status, 0) << csv.out;
+  EXPECT_NE(csv.out.find(",coverage,ranked\n"), std::string::npos) << csv.out;
+  EXPECT_NE(csv.out.find(",0.050000000000000003,false\n"), std::string::npos) << csv.out;
+}
+
+TEST(Export, TumForEvo) {
+  // smooth's trajectory at t = 0 is (1, 2) heading pi/2: quaternion (0, 0, sin(pi/4), cos(pi/4)).
+  roam_test::ScratchDir dir;
+  const std::string log = writeFixture(dir);
+  const roam_test::ToolResult r =
+      roam_test::runTool(roam_test::tool("roam-export") + " " + log + " --estimator smooth --format tum");
+  ASSERT_EQ(r.status, 0) << r.out;
+  std::istringstream lines(r.out);
+  std::string first;
+  std::getline(lines, first);
+  std::istringstream fields(first);
+  double t, x, y, z, qx, qy, qz, qw;
+  ASSERT_TRUE(fields >> t >> x >> y >> z >> qx >> qy >> qz >> qw) << first;
+  EXPECT_EQ(t, 0.0);
+  EXPECT_EQ(x, 1.0);
+  EXPECT_EQ(y, 2.0);
+  EXPECT_EQ(z, 0.0);
+  EXPECT_EQ(qx, 0.0);
+  EXPECT_EQ(qy, 0.0);
+  EXPECT_NEAR(qz, std::sqrt(0.5), kTolerance);
+  EXPECT_NEAR(qw, std::sqrt(0.5), kTolerance);
+  const roam_test::ToolResult truth =
+      roam_test::runTool(roam_test::tool("roam-export") + " " + log + " --ground-truth --format tum");
+  EXPECT_EQ(truth.out.substr(0, 38), "0.000000 0 0 0 0 0 0 1\n1.000000 1 0 0 ");
+}
+
+TEST(Export, PyfgHoldsThePathAtTheOdometryTimesTheMapAndTheEdges) {
+  // fix: poses at even t only; at odd t interpolated. 19 odometry steps -> 20 poses, 19 edges;
+  // its map (beacons 1, 2, 9) as VERTEX_XY.
+  roam_test::ScratchDir dir;
+  const std::string log = writeFixture(dir);
+  const roam_test::ToolResult r = roam_test::runTool(roam_test::tool("roam-export") + " " + log +
+                                                     " --estimator fix --format pyfg -o " + dir.file("fix.pyfg"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  std::ifstream in(dir.file("fix.pyfg"));
+  std::string line;
+  int poses = 0, beacons = 0, edges = 0;
+  std::string pose1;
+  while (std::getline(in, line)) {
+    if (line.rfind("VERTEX_SE2 ", 0) == 0 && ++poses == 2) pose1 = line;
+    if (line.rfind("VERTEX_XY ", 0) == 0) ++beacons;
+    if (line.rfind("EDGE_SE2 ", 0) == 0) ++edges;
+  }
+  EXPECT_EQ(poses, 20);
+  EXPECT_EQ(edges, 19);
+  EXPECT_EQ(beacons, 3);
+  // t = 1: halfway between (0, 0.81) and (2, 0.49): (1, 0.65).
+  std::istringstream fields(pose1);
+  std::string type, time, name;
+  double x, y;
+  fields >> type >> time >> name >> x >> y;
+  EXPECT_EQ(time, "1.000000");
+  EXPECT_EQ(name, "A1");
+  EXPECT_NEAR(x, 1.0, kTolerance);
+  EXPECT_NEAR(y, 0.65, kTolerance);
+  const roam_test::ToolResult no_file =
+      roam_test::runTool(roam_test::tool("roam-export") + " " + log + " --estimator fix --format pyfg");
+  EXPECT_EQ(no_file.status, 2);
+  EXPECT_EQ(no_file.out, "roam-export: error: --format pyfg needs -o FILE\n");
+}
+
 }  // namespace

@@ -93,6 +93,9 @@ ResultLog readResultLog(const std::string& path) {
     } else if (c == channels::ODOMETRY) {
       roam::odometry_t m;
       if ((ok = decode(*event, &m))) result.odometry.push_back(fromMessage(m));
+    } else if (c == channels::RANGE) {
+      roam::range_t m;
+      if ((ok = decode(*event, &m))) result.ranges.push_back(fromMessage(m));
     } else if (startsWith(c, channels::POSE_PREFIX)) {
       roam::pose_t m;
       if ((ok = decode(*event, &m)))

@@ -40,6 +40,7 @@ struct ResultLog {
   std::optional<Map> beacons;      // the last BEACONS
   std::optional<Pose> start;       // the first INITIAL_POSE
   std::vector<Odometry> odometry;  // ODOMETRY, log order
+  std::vector<Range> ranges;       // RANGE, log order
   std::vector<EstimatorOutputs> estimators;  // in order of first appearance
   long events = 0;
   long skipped = 0;                // undecodable events (and a cut last event)
@@ -50,7 +51,8 @@ struct ResultLog {
 // Throws std::runtime_error("<path>: cannot open ...") if the file is not a readable log.
 ResultLog readResultLog(const std::string& path);
 
-// x += d cos th; y += d sin th; th += dth from `start`; one pose per odometry step (plus start).
+// Dead reckoning by the shared motion model (roam::estimation::step) from `start`; one pose per
+// odometry step (plus start).
 Path integrateOdometry(const Pose& start, const std::vector<Odometry>& odometry);
 
 }  // namespace roam

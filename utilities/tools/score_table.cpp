@@ -94,8 +94,12 @@ Table buildTable(const std::vector<RunScores>& runs, TableMetric metric) {
       for (const auto& run : runs) {
         const EstimatorScore* e = findEstimator(run, name);
         const ErrorStats* stats = e ? &(e->score.*segment.stats) : nullptr;
-        if (mean) row.push_back(stats ? fixed(stats->mean_m, 2) : "-");
-        if (rmse) row.push_back(stats ? fixed(stats->rmse_m, 2) : "-");
+        auto cell = [&](double value) {
+          const std::string text = fixed(value, 2);
+          return e->ranked() || text == "-" ? text : "(" + text + ")";
+        };
+        if (mean) row.push_back(stats ? cell(stats->mean_m) : "-");
+        if (rmse) row.push_back(stats ? cell(stats->rmse_m) : "-");
       }
       table.push_back(row);
     }
@@ -111,6 +115,9 @@ Table buildTable(const std::vector<RunScores>& runs, TableMetric metric) {
     single("max", [](const EstimatorScore& e) { return fixed(e.score.max_m, 2); });
     single("beacons", [](const EstimatorScore& e) { return fixed(e.score.beacon_error_m, 2); });
     single("CPU (s)", [](const EstimatorScore& e) { return e.cpu_s ? fixed(*e.cpu_s, 3) : "-"; });
+    single("coverage", [](const EstimatorScore& e) {
+      return fixed(100.0 * e.coverage, 0) + " %" + (e.ranked() ? "" : " (partial)");
+    });
   }
   return table;
 }
@@ -158,7 +165,8 @@ std::string renderMarkdown(const Table& table) {
 std::string renderCsv(const std::vector<RunScores>& runs) {
   std::ostringstream out;
   out << "run,estimator,scored,matched,full_mean_m,full_rmse_m,last10_mean_m,last10_rmse_m,"
-         "best10_mean_m,best10_rmse_m,worst10_mean_m,worst10_rmse_m,max_m,beacon_error_m,cpu_s,state\n";
+         "best10_mean_m,best10_rmse_m,worst10_mean_m,worst10_rmse_m,max_m,beacon_error_m,cpu_s,state,"
+         "coverage,ranked\n";
   for (const auto& run : runs) {
     for (const auto& e : run.estimators) {
       const PathScore& s = e.score;
@@ -166,7 +174,8 @@ std::string renderCsv(const std::vector<RunScores>& runs) {
       for (const ErrorStats* stats : {&s.full, &s.last10, &s.best10, &s.worst10})
         out << "," << exact(stats->mean_m) << "," << exact(stats->rmse_m);
       out << "," << exact(s.max_m) << "," << exact(s.beacon_error_m) << ","
-          << (e.cpu_s ? exact(*e.cpu_s) : "") << "," << csvField(e.state) << "\n";
+          << (e.cpu_s ? exact(*e.cpu_s) : "") << "," << csvField(e.state) << "," << exact(e.coverage) << ","
+          << (e.ranked() ? "true" : "false") << "\n";
     }
   }
   return out.str();
@@ -193,12 +202,18 @@ std::string renderJson(const std::vector<RunScores>& runs) {
           << ", \"best10\": " << stats(s.best10) << ", \"worst10\": " << stats(s.worst10)
           << ", \"max_m\": " << jsonNumber(s.max_m) << ", \"beacon_error_m\": " << jsonNumber(s.beacon_error_m)
           << ", \"cpu_s\": " << (e.cpu_s ? jsonNumber(*e.cpu_s) : "null")
-          << ", \"state\": " << jsonString(e.state) << "}";
+          << ", \"state\": " << jsonString(e.state) << ", \"coverage\": " << jsonNumber(e.coverage)
+          << ", \"ranked\": " << (e.ranked() ? "true" : "false") << "}";
     }
     out << "\n  ]}";
   }
   out << "\n]}\n";
   return out.str();
+}
+
+double coverageOf(const PathScore& score, const ResultLog& log) {
+  return log.ground_truth.empty() ? 0.0
+                                  : static_cast<double>(score.matched) / static_cast<double>(log.ground_truth.size());
 }
 
 }  // namespace
@@ -215,6 +230,7 @@ RunScores scoreRun(const ResultLog& log, const std::string& run, bool aligned, b
     e.estimator = kOdometryRowName;
     e.scored = "odometry";
     e.score = scorePath(integrateOdometry(*log.start, log.odometry), log.ground_truth, aligned);
+    e.coverage = coverageOf(e.score, log);
     scores.estimators.push_back(e);
   }
   for (const EstimatorOutputs& out : log.estimators) {
@@ -222,6 +238,7 @@ RunScores scoreRun(const ResultLog& log, const std::string& run, bool aligned, b
     e.estimator = out.name;
     e.scored = out.trajectory ? "trajectory" : "poses";
     e.score = scorePath(out.scoredPath(), log.ground_truth, aligned, out.map, log.beacons);
+    e.coverage = coverageOf(e.score, log);
     e.cpu_s = out.cpu_total_s;
     e.state = out.state;
     scores.estimators.push_back(e);

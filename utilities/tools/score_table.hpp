@@ -16,10 +16,17 @@ namespace roam {
 // ODOMETRY; it appears as an estimator of this name.
 constexpr const char* kOdometryRowName = "odometry";
 
+// A path that covers less than this fraction of the ground-truth poses (an estimator that gave
+// up early, or published one pose) is shown with its coverage and its errors in parentheses:
+// its error over the part it covers is not comparable with a whole run's.
+constexpr double kMinRankedCoverage = 0.9;
+
 struct EstimatorScore {
   std::string estimator;
   std::string scored;          // "trajectory" | "poses" | "odometry" (what was scored)
   PathScore score;
+  double coverage = 0.0;       // matched ground-truth poses / all ground-truth poses
+  bool ranked() const { return coverage >= kMinRankedCoverage; }
   std::optional<double> cpu_s;
   std::string state;           // the last STATUS_ state, "" if none
 };
@@ -38,7 +45,8 @@ RunScores scoreRun(const ResultLog& log, const std::string& run, bool aligned, b
 enum class TableFormat { kText, kMarkdown, kCsv, kJson };
 enum class TableMetric { kMean, kRmse, kBoth };
 
-// text / markdown: rows estimator x segment, columns run x metric. csv: one row per run and
+// text / markdown: rows estimator x segment, columns run x metric, then max, beacons, CPU and
+// coverage (errors of a row below kMinRankedCoverage in parentheses). csv: one row per run and
 // estimator with every figure (metric ignored). json: the same as nested objects.
 std::string formatScores(const std::vector<RunScores>& runs, TableFormat format, TableMetric metric);
 
