@@ -1,5 +1,7 @@
 #include "config.hpp"
 
+#include "plugin_library.hpp"
+
 #include <boost/program_options.hpp>
 #include <cctype>
 #include <cmath>
@@ -207,7 +209,13 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
         } else if (key == "output") {
           config.output = resolvePath(setting.value, base);
         } else if (key == "plugin_path") {
-          config.plugin_path = resolvePath(setting.value, base);
+          // ':'-separated folders searched in order; the shipped folder is always searched last.
+          std::string list;
+          for (const std::string& folder : PluginLibrary::searchFolders(setting.value)) {
+            const std::string resolved = resolvePath(folder, base);
+            if (resolved != default_plugin_path) list += resolved + ":";
+          }
+          config.plugin_path = list + default_plugin_path;
         } else if (key == "odometry_channel") {
           config.odometry_channel = setting.value;
         } else if (key == "range_channel") {

@@ -35,11 +35,36 @@ std::vector<std::string> PluginLibrary::available(const std::string& folder) {
   return names;
 }
 
-std::shared_ptr<PluginLibrary> PluginLibrary::open(const std::string& folder, const std::string& name) {
-  const std::string path = (fs::path(folder) / ("libroam_" + name + ".so")).string();
-  std::error_code not_there;  // e.g. a name too long for the file system: no such plugin either
-  if (!fs::exists(path, not_there)) {
-    const auto names = available(folder);
+std::vector<std::string> PluginLibrary::searchFolders(const std::string& search_path) {
+  std::vector<std::string> folders;
+  size_t begin = 0;
+  while (begin <= search_path.size()) {
+    const size_t end = std::min(search_path.find(':', begin), search_path.size());
+    if (end > begin) folders.push_back(search_path.substr(begin, end - begin));
+    begin = end + 1;
+  }
+  return folders;
+}
+
+std::shared_ptr<PluginLibrary> PluginLibrary::open(const std::string& search_path, const std::string& name) {
+  const auto folders = searchFolders(search_path);
+  std::string path;
+  for (const std::string& folder : folders) {
+    std::error_code not_there;  // e.g. a name too long for the file system: no such plugin either
+    const std::string candidate = (fs::path(folder) / ("libroam_" + name + ".so")).string();
+    if (fs::exists(candidate, not_there)) {
+      path = candidate;
+      break;
+    }
+  }
+  if (path.empty()) {
+    const std::string folder = search_path;
+    std::vector<std::string> names;
+    for (const std::string& each : folders) {
+      for (const std::string& found : available(each)) names.push_back(found);
+    }
+    std::sort(names.begin(), names.end());
+    names.erase(std::unique(names.begin(), names.end()), names.end());
     std::string message = "no plugin '" + name + "' in " + folder;
     const std::string hint = closestMatch(name, names);
     if (!hint.empty()) {

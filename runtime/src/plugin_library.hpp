@@ -40,7 +40,10 @@ class PluginInstance;
 class PluginLibrary {
  public:
   // Opens <folder>/libroam_<name>.so and checks its descriptor; throws PluginError.
-  static std::shared_ptr<PluginLibrary> open(const std::string& folder, const std::string& name);
+  // libroam_<name>.so from the first of the ':'-separated folders of `search_path` that has it.
+  static std::shared_ptr<PluginLibrary> open(const std::string& search_path, const std::string& name);
+  // The folders of a ':'-separated search path, in order (empty parts skipped).
+  static std::vector<std::string> searchFolders(const std::string& search_path);
   // Opens a library by path (tests load deliberately broken plugins this way).
   static std::shared_ptr<PluginLibrary> openFile(const std::string& path);
   ~PluginLibrary();
