@@ -376,4 +376,29 @@ TEST(Export, PyfgHoldsThePathAtTheOdometryTimesTheMapAndTheEdges) {
   EXPECT_EQ(no_file.out, "roam-export: error: --format pyfg needs -o FILE\n");
 }
 
+TEST(Eval, StatusPrintsEachEstimatorsLastStatusLine) {
+  roam_test::ScratchDir dir;
+  const std::string path = dir.file("status.lcmlog");
+  {
+    LogWriter log(path);
+    roam::estimator_status_t status{};
+    status.estimator = "ekf";
+    status.state = roam::estimator_status_t::TRACKING;
+    log.write("STATUS_EKF", 1, status);  // superseded by the next one
+    status.state = roam::estimator_status_t::FINISHED;
+    status.odometry_accepted = 99;
+    status.odometry_rejected = 1;
+    status.ranges_accepted = 30;
+    status.ranges_rejected = 10;
+    status.num_values = 2;
+    status.keys = {"heading_rate_bias_rad_s", "distance_scale"};
+    status.values = {0.0099, 0.97};
+    log.write("STATUS_EKF", 2, status);
+  }
+  const roam_test::ToolResult r = roam_test::runTool(roam_test::tool("roam-eval") + " " + path + " --status");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(r.out, "status ekf: finished, odometry 1/100 rejected, ranges 10/40 rejected; "
+                   "heading_rate_bias_rad_s 0.0099; distance_scale 0.97\n");
+}
+
 }  // namespace

@@ -37,7 +37,9 @@ int main(int argc, char** argv) {
       ("format", po::value(&format_name)->default_value("text"), "text | markdown | csv | json")
       ("metric", po::value(&metric_name)->default_value("both"), "mean | rmse | both (text and markdown)")
       ("aligned", "fit each path (and map) to ground truth by the best rigid 2-D motion first")
-      ("no-odometry", "leave out the 'odometry' row (dead reckoning integrated from the log's ODOMETRY)");
+      ("no-odometry", "leave out the 'odometry' row (dead reckoning integrated from the log's ODOMETRY)")
+      ("status", "instead of scores: each estimator's last STATUS_ (state, accepted and rejected input, "
+                 "diagnostics such as the odometry calibration it recovered), one line each");
   po::options_description all;
   all.add(visible).add_options()("log", po::value(&logs));
   po::positional_options_description positional;
@@ -63,6 +65,21 @@ int main(int argc, char** argv) {
     else throw std::runtime_error("--metric: expected mean | rmse | both, got '" + metric_name + "'");
     if (logs.empty()) throw std::runtime_error("missing RESULT_LOG (a log with GROUND_TRUTH and estimator outputs)");
 
+    if (vm.count("status")) {
+      for (const std::string& path : logs) {
+        const roam::ResultLog log = roam::readResultLog(path);
+        for (const roam::EstimatorOutputs& e : log.estimators) {
+          std::printf("%s %s: %s, odometry %ld/%ld rejected, ranges %ld/%ld rejected", runLabel(path).c_str(),
+                      e.name.c_str(), e.state.empty() ? "no status" : e.state.c_str(), e.odometry_rejected,
+                      e.odometry_accepted + e.odometry_rejected, e.ranges_rejected,
+                      e.ranges_accepted + e.ranges_rejected);
+          for (const auto& [key, value] : e.diagnostics) std::printf("; %s %.6g", key.c_str(), value);
+          if (!e.last_error.empty()) std::printf("; error: %s", e.last_error.c_str());
+          std::printf("\n");
+        }
+      }
+      return 0;
+    }
     std::vector<roam::RunScores> runs;
     for (const std::string& path : logs) {
       const roam::ResultLog log = roam::readResultLog(path);

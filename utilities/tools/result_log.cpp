@@ -120,6 +120,12 @@ ResultLog readResultLog(const std::string& path) {
         out.cpu_total_s = m.cpu_total_s;
         out.state = stateName(m.state);
         out.last_error = m.last_error;
+        out.odometry_accepted = m.odometry_accepted;
+        out.odometry_rejected = m.odometry_rejected;
+        out.ranges_accepted = m.ranges_accepted;
+        out.ranges_rejected = m.ranges_rejected;
+        out.diagnostics.clear();
+        for (size_t i = 0; i < m.keys.size() && i < m.values.size(); ++i) out.diagnostics.emplace_back(m.keys[i], m.values[i]);
       }
     }
     if (!ok) ++result.skipped;

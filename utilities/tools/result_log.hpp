@@ -29,6 +29,10 @@ struct EstimatorOutputs {
   std::optional<double> cpu_total_s;  // of the last STATUS_<suffix>
   std::string state;              // of the last STATUS_: initializing|tracking|finished|failed
   std::string last_error;
+  // Of the last STATUS_: the counters and the estimator's diagnostics (rejections by reason,
+  // calibration, solver figures), in the message's order.
+  long odometry_accepted = 0, odometry_rejected = 0, ranges_accepted = 0, ranges_rejected = 0;
+  std::vector<std::pair<std::string, double>> diagnostics;
 
   // The path roam-eval scores: the last trajectory if any, else the poses.
   const Path& scoredPath() const { return trajectory ? *trajectory : poses; }
