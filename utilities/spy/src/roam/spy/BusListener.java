@@ -1,0 +1,115 @@
+package roam.spy;
+
+import java.io.IOException;
+import java.util.concurrent.ArrayBlockingQueue;
+import java.util.concurrent.BlockingQueue;
+import java.util.concurrent.TimeUnit;
+import lcm.lcm.LCM;
+import lcm.lcm.LCMDataInputStream;
+import lcm.lcm.LCMSubscriber;
+import roam.estimator_status_t;
+import roam.map_t;
+import roam.pose_t;
+import roam.trajectory_t;
+
+/**
+ * The view's own LCM subscription. LCM's receive thread only copies each message into a bounded
+ * queue (it never blocks: a full queue drops and counts); one decoder thread decodes by type
+ * fingerprint and updates the model. Neither is the Swing thread, and neither is lcm-spy's LCM
+ * instance, so the view cannot hold up lcm-spy's table.
+ */
+final class BusListener implements LCMSubscriber {
+    private static final int QUEUE = 50000;
+
+    private static final class Raw {
+        final String channel;
+        final byte[] data;
+        final long receivedNs;
+
+        Raw(String channel, byte[] data, long receivedNs) {
+            this.channel = channel;
+            this.data = data;
+            this.receivedNs = receivedNs;
+        }
+    }
+
+    private final MapModel model;
+    private final Stats stats;
+    private final BlockingQueue<Raw> queue = new ArrayBlockingQueue<>(QUEUE);
+    private final LCM lcm;
+    private final Thread decoder;
+    private volatile boolean running = true;
+
+    BusListener(String url, MapModel model, Stats stats) throws IOException {
+        this.model = model;
+        this.stats = stats;
+        lcm = (url == null || url.isEmpty()) ? new LCM() : new LCM(url);
+        decoder = new Thread(this::decodeLoop, "roam-map-decoder");
+        decoder.setDaemon(true);
+        decoder.start();
+        lcm.subscribe("GROUND_TRUTH|INITIAL_POSE|BEACONS|POSE_.*|MAP_.*|TRAJECTORY_.*|STATUS_.*", this);
+    }
+
+    /** Roam's output and reference types, by fingerprint (the first 8 bytes of a message). */
+    static boolean isRoamType(long fingerprint) {
+        return fingerprint == pose_t.LCM_FINGERPRINT || fingerprint == map_t.LCM_FINGERPRINT
+            || fingerprint == trajectory_t.LCM_FINGERPRINT
+            || fingerprint == estimator_status_t.LCM_FINGERPRINT
+            || fingerprint == roam.odometry_t.LCM_FINGERPRINT
+            || fingerprint == roam.range_t.LCM_FINGERPRINT;
+    }
+
+    @Override
+    public void messageReceived(LCM from, String channel, LCMDataInputStream ins) {
+        final byte[] data = new byte[ins.available()];
+        try {
+            ins.readFully(data);
+        } catch (IOException e) {
+            stats.errors.incrementAndGet();
+            return;
+        }
+        stats.received.incrementAndGet();
+        if (!queue.offer(new Raw(channel, data, System.nanoTime()))) stats.dropped.incrementAndGet();
+    }
+
+    private void decodeLoop() {
+        while (running) {
+            final Raw raw;
+            try {
+                raw = queue.poll(200, TimeUnit.MILLISECONDS);
+            } catch (InterruptedException e) {
+                return;
+            }
+            if (raw == null) continue;
+            try {
+                decode(raw);
+            } catch (IOException | RuntimeException e) {
+                stats.errors.incrementAndGet();
+            }
+            stats.recordLag(System.nanoTime() - raw.receivedNs);
+        }
+    }
+
+    private void decode(Raw raw) throws IOException {
+        if (raw.data.length < 8) throw new IOException("short message on " + raw.channel);
+        long fingerprint = 0;
+        for (int i = 0; i < 8; ++i) fingerprint = (fingerprint << 8) | (raw.data[i] & 0xFF);
+        final LCMDataInputStream in = new LCMDataInputStream(raw.data);
+        if (fingerprint == pose_t.LCM_FINGERPRINT) model.onPose(raw.channel, new pose_t(in));
+        else if (fingerprint == map_t.LCM_FINGERPRINT) model.onMap(raw.channel, new map_t(in));
+        else if (fingerprint == trajectory_t.LCM_FINGERPRINT) model.onTrajectory(raw.channel, new trajectory_t(in));
+        else if (fingerprint == estimator_status_t.LCM_FINGERPRINT) model.onStatus(raw.channel, new estimator_status_t(in));
+        else stats.ignored.incrementAndGet();  // another type on a matching channel name
+    }
+
+    void close() {
+        running = false;
+        lcm.unsubscribe("GROUND_TRUTH|INITIAL_POSE|BEACONS|POSE_.*|MAP_.*|TRAJECTORY_.*|STATUS_.*", this);
+        lcm.close();
+        decoder.interrupt();
+    }
+
+    int backlog() {
+        return queue.size();
+    }
+}

@@ -1,0 +1,63 @@
+package roam.spy;
+
+import java.awt.Graphics2D;
+import java.awt.Point;
+import java.awt.Rectangle;
+import java.awt.image.BufferedImage;
+import java.io.File;
+import java.io.IOException;
+import java.io.PrintWriter;
+import java.nio.charset.StandardCharsets;
+import java.nio.file.Files;
+import java.nio.file.StandardCopyOption;
+import java.util.Set;
+import javax.imageio.ImageIO;
+import javax.swing.JComponent;
+import javax.swing.SwingUtilities;
+
+/**
+ * Writes the view as a PNG and, beside it (PNG + ".txt"), what a test needs to know where a world
+ * point must appear in that image, from the same paint: the canvas's place in the image and the
+ * world-to-canvas transform (WorldTransform), the legend box (marks under it are hidden), and per
+ * estimator its colour, whether shown, and the time of its newest pose. Lines of "key values...".
+ * Both files are written under temporary names and renamed, PNG last, so a reader that sees the
+ * PNG sees both whole.
+ */
+final class SnapshotWriter {
+    private SnapshotWriter() {}
+
+    static void write(JComponent view, MapCanvas canvas, MapModel.Snapshot s, Set<String> hidden, String stats,
+                      String pngPath) throws IOException {
+        final BufferedImage image = new BufferedImage(view.getWidth(), view.getHeight(), BufferedImage.TYPE_INT_RGB);
+        final Graphics2D g = image.createGraphics();
+        view.paint(g);
+        g.dispose();
+        final WorldTransform t = canvas.lastTransform();
+        if (t == null) throw new IOException("the map has not been painted yet");
+        final Point at = SwingUtilities.convertPoint(canvas, 0, 0, view);
+        final Rectangle legend = canvas.legendRect();
+
+        final File png = new File(pngPath);
+        final File sidecar = new File(pngPath + ".txt");
+        final File pngTmp = new File(pngPath + ".tmp.png");
+        final File sidecarTmp = new File(pngPath + ".txt.tmp");
+        try (PrintWriter w = new PrintWriter(sidecarTmp, StandardCharsets.UTF_8.name())) {
+            w.printf("image %d %d%n", image.getWidth(), image.getHeight());
+            w.printf("canvas %d %d %d %d%n", at.x, at.y, t.widthPx, t.heightPx);
+            w.printf("transform %.17g %.17g %.17g%n", t.scalePxPerM, t.centreXm, t.centreYm);
+            w.println("# px = canvas_x + canvas_w/2 + (x - centre_x) * scale;  py = canvas_y + canvas_h/2 - (y - centre_y) * scale");
+            w.printf("legend %d %d %d %d%n", at.x + legend.x, at.y + legend.y, legend.width, legend.height);
+            w.printf("ground_truth_last_utime %d%n", s.truthLastUtime);
+            w.printf("beacons %d%n", s.beacons.size());
+            for (MapModel.Track track : s.tracks) {
+                w.printf("estimator %s %s %s %d %d%n", track.name, Palette.hex(Palette.series(track.colourIndex)),
+                         hidden.contains(track.name) ? "hidden" : "shown", track.hasPose ? track.lastUtime : 0,
+                         track.path[0].length);
+            }
+            w.println("stats " + stats);
+        }
+        ImageIO.write(image, "png", pngTmp);
+        Files.move(sidecarTmp.toPath(), sidecar.toPath(), StandardCopyOption.REPLACE_EXISTING);
+        Files.move(pngTmp.toPath(), png.toPath(), StandardCopyOption.REPLACE_EXISTING);
+    }
+}
