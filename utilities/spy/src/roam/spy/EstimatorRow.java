@@ -20,7 +20,9 @@ final class EstimatorRow extends JPanel {
     final JCheckBox shown;
     private final JLabel error = new JLabel();
     private final JLabel status = new JLabel();
-    private final JLabel diagnostics = new JLabel();
+    private final JLabel rejection = new JLabel();
+    private final JLabel[] diagnostics = {new JLabel(), new JLabel(), new JLabel(), new JLabel()};
+    private static final int LINE_CHARS = 62;
 
     EstimatorRow(String name, Color colour, Runnable onToggle) {
         this.name = name;
@@ -34,7 +36,9 @@ final class EstimatorRow extends JPanel {
         shown.setOpaque(false);
         shown.addActionListener(e -> onToggle.run());
         add(shown);
-        for (JLabel l : new JLabel[] {error, status, diagnostics}) {
+        final java.util.List<JLabel> lines = new java.util.ArrayList<>(java.util.Arrays.asList(error, status, rejection));
+        lines.addAll(java.util.Arrays.asList(diagnostics));
+        for (JLabel l : lines) {
             l.setFont(l.getFont().deriveFont(Font.PLAIN, 11f));
             l.setBorder(BorderFactory.createEmptyBorder(0, 30, 0, 0));
             l.setAlignmentX(Component.LEFT_ALIGNMENT);
@@ -46,7 +50,22 @@ final class EstimatorRow extends JPanel {
     void update(MapModel.Track t, boolean truthOnBus) {
         setText(error, StatusText.error(t, truthOnBus));
         setText(status, StatusText.status(t.status));
-        setText(diagnostics, StatusText.diagnostics(t.status));
+        final String why = StatusText.rejection(t.status);
+        setText(rejection, why.length() > LINE_CHARS ? why.substring(0, LINE_CHARS - 1) + "\u2026" : why);
+        rejection.setToolTipText(why.isEmpty() ? null : why);
+        rejection.setVisible(!why.isEmpty());
+        // Diagnostics as key=value pairs, wrapped at whole pairs onto up to four lines.
+        final String[] pairs = StatusText.diagnostics(t.status);
+        int next = 0;
+        for (JLabel l : diagnostics) {
+            final StringBuilder line = new StringBuilder();
+            while (next < pairs.length && (line.length() == 0 || line.length() + 2 + pairs[next].length() <= LINE_CHARS)) {
+                if (line.length() > 0) line.append("  ");
+                line.append(pairs[next++]);
+            }
+            setText(l, line.length() > LINE_CHARS ? line.substring(0, LINE_CHARS - 1) + "\u2026" : line.toString());
+            l.setVisible(line.length() > 0);
+        }
     }
 
     private static void setText(JLabel l, String text) {

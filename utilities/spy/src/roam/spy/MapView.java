@@ -10,7 +10,6 @@ import java.util.HashSet;
 import java.util.List;
 import java.util.Set;
 import javax.swing.BorderFactory;
-import javax.swing.Box;
 import javax.swing.BoxLayout;
 import javax.swing.JButton;
 import javax.swing.JLabel;
@@ -56,7 +55,7 @@ final class MapView extends JPanel {
         side.setBorder(BorderFactory.createMatteBorder(0, 1, 0, 0, Palette.FRAME));
         add(side, BorderLayout.EAST);
 
-        final JPanel bottom = new JPanel(new FlowLayout(FlowLayout.LEFT, 6, 2));
+        final JPanel buttons = new JPanel(new FlowLayout(FlowLayout.LEFT, 6, 2));
         final JButton fit = new JButton("Fit");
         fit.setToolTipText("fit ground truth and beacons again (or double-click the map); wheel zooms, drag pans");
         fit.addActionListener(e -> canvas.fitAgain());
@@ -67,10 +66,12 @@ final class MapView extends JPanel {
         all.addActionListener(e -> setAllShown(true));
         final JButton none = new JButton("None");
         none.addActionListener(e -> setAllShown(false));
-        for (JButton b : new JButton[] {fit, clear, all, none}) bottom.add(b);
-        bottom.add(Box.createHorizontalStrut(8));
+        for (JButton b : new JButton[] {fit, clear, all, none}) buttons.add(b);
         footer.setFont(footer.getFont().deriveFont(Font.PLAIN, 11f));
-        bottom.add(footer);
+        footer.setBorder(BorderFactory.createEmptyBorder(0, 8, 0, 4));
+        final JPanel bottom = new JPanel(new BorderLayout());
+        bottom.add(buttons, BorderLayout.WEST);
+        bottom.add(footer, BorderLayout.CENTER);
         add(bottom, BorderLayout.SOUTH);
 
         timer = new Timer((int) Math.round(1000.0 / options.repaintHz), e -> tick());
@@ -80,6 +81,7 @@ final class MapView extends JPanel {
     /** Subscribes and starts repainting. */
     void start() throws IOException {
         listener = new BusListener(options.lcmUrl, model, stats);
+        System.out.println("roam map view: listening on " + (options.lcmUrl.isEmpty() ? "LCM's default URL" : options.lcmUrl));
         timer.start();
         if (!options.snapshot.isEmpty()) {
             final Timer once = new Timer((int) Math.round(options.snapshotAfterS * 1000), e -> writeSnapshot());

@@ -6,7 +6,7 @@ import java.util.concurrent.atomic.AtomicLong;
 /**
  * How well the view keeps up: messages received, dropped (decoder queue full) and not decoded;
  * the lag from receipt to the model (over the newest 4096 messages); repaints per second and the
- * time a repaint takes. Printed by MapViewMain --stats and shown in the view's footer.
+ * time a repaint takes (over the last 5 s). Printed by MapViewMain --stats and shown in the view's footer.
  */
 final class Stats {
     final AtomicLong received = new AtomicLong();
@@ -20,9 +20,10 @@ final class Stats {
     private long lagMaxNs;
 
     private long paints;
-    private long paintNsTotal;
     private long paintNsMax;
-    private final long startNs = System.nanoTime();
+    // The newest repaints: when each started and how long it took (the rate and cost now).
+    private final long[] paintAtNs = new long[64];
+    private final long[] paintTookNs = new long[64];
 
     synchronized void recordLag(long ns) {
         lagsNs[lagNext] = ns;
@@ -32,9 +33,27 @@ final class Stats {
     }
 
     synchronized void recordPaint(long ns) {
+        final int i = (int) (paints % paintAtNs.length);
+        paintAtNs[i] = System.nanoTime() - ns;
+        paintTookNs[i] = ns;
         ++paints;
-        paintNsTotal += ns;
         paintNsMax = Math.max(paintNsMax, ns);
+    }
+
+    /** {repaints per second, mean ms per repaint} over the newest repaints of the last 5 s. */
+    synchronized double[] paintRate() {
+        final long now = System.nanoTime();
+        int n = 0;
+        long first = now, took = 0;
+        for (int k = 1; k <= Math.min(paints, paintAtNs.length); ++k) {
+            final int i = (int) ((paints - k) % paintAtNs.length);
+            if (now - paintAtNs[i] > 5_000_000_000L) break;
+            first = paintAtNs[i];
+            took += paintTookNs[i];
+            ++n;
+        }
+        if (n < 2) return new double[] {0, n == 0 ? Double.NaN : took / 1e6};
+        return new double[] {(n - 1) / ((now - first) / 1e9), took / 1e6 / n};
     }
 
     /** {median, p99} lag in ms over the newest messages; NaN before any. */
@@ -47,11 +66,11 @@ final class Stats {
 
     synchronized String line(int backlog) {
         final double[] lag = lagMs();
-        final double seconds = (System.nanoTime() - startNs) / 1e9;
+        final double[] paint = paintRate();
         return String.format(
-            "received %d, dropped %d, undecodable %d, backlog %d; lag median %.2f ms, p99 %.2f ms, max %.1f ms;"
-                + " %d repaints (%.1f/s), %.1f ms mean, %.1f ms max",
-            received.get(), dropped.get(), errors.get(), backlog, lag[0], lag[1], lagMaxNs / 1e6, paints,
-            paints / Math.max(seconds, 1e-9), paints == 0 ? 0.0 : paintNsTotal / 1e6 / paints, paintNsMax / 1e6);
+            "received %d, dropped %d, undecodable %d, backlog %d \u00B7 lag median %.2f ms, p99 %.2f ms, max %.1f ms"
+                + " \u00B7 %.1f repaints/s, %.1f ms each (max %.0f)",
+            received.get(), dropped.get(), errors.get(), backlog, lag[0], lag[1], lagMaxNs / 1e6, paint[0], paint[1],
+            paintNsMax / 1e6);
     }
 }

@@ -31,19 +31,28 @@ final class StatusText {
         b.append(String.format(" \u00B7 odometry %d/%d rej \u00B7 ranges %d/%d rej \u00B7 cpu %.2f s",
                                s.odometry_accepted, s.odometry_rejected, s.ranges_accepted, s.ranges_rejected,
                                s.cpu_total_s));
-        if (s.last_error != null && !s.last_error.isEmpty()) b.append(" \u00B7 error: ").append(s.last_error);
-        else if (s.last_rejection != null && !s.last_rejection.isEmpty()) b.append(" \u00B7 last rejected: ").append(s.last_rejection);
         return b.toString();
     }
 
+    /** Why it failed, else the last rejection, else "". */
+    static String rejection(estimator_status_t s) {
+        if (s == null) return "";
+        if (s.last_error != null && !s.last_error.isEmpty()) return "error: " + s.last_error;
+        if (s.last_rejection != null && !s.last_rejection.isEmpty()) return "last rejected: " + s.last_rejection;
+        return "";
+    }
+
+    /** Counts as integers, anything else to four significant digits. */
+    static String number(double v) {
+        if (v == Math.rint(v) && Math.abs(v) < 1e15) return Long.toString((long) v);
+        return String.format("%.4g", v);
+    }
+
     /** The estimator's own diagnostics (calibration values, solver cost, ...) as key=value. */
-    static String diagnostics(estimator_status_t s) {
-        if (s == null || s.num_values == 0) return "";
-        final StringBuilder b = new StringBuilder();
-        for (int i = 0; i < s.num_values; ++i) {
-            if (b.length() > 0) b.append("  ");
-            b.append(s.keys[i]).append('=').append(String.format("%.4g", s.values[i]));
-        }
-        return b.toString();
+    static String[] diagnostics(estimator_status_t s) {
+        if (s == null) return new String[0];
+        final String[] pairs = new String[s.num_values];
+        for (int i = 0; i < s.num_values; ++i) pairs[i] = s.keys[i] + "=" + number(s.values[i]);
+        return pairs;
     }
 }
