@@ -21,14 +21,15 @@ import javax.swing.Timer;
 /**
  * roam's live map: the canvas, a row per estimator beside it (checkbox in its colour, error
  * against ground truth, STATUS_ line), and a footer (fit, clear, show all / none, how well the
- * view keeps up). A Swing timer repaints at a bounded rate, and only when something arrived.
+ * view keeps up). A Swing timer takes a snapshot of the model at a bounded rate, only when
+ * something arrived, and hands it to the canvas's render thread.
  * The same component opens from lcm-spy's channel menu (MapSpyPlugin) and from MapViewMain.
  */
 final class MapView extends JPanel {
     private final ViewOptions options;
     private final MapModel model = new MapModel();
     private final Stats stats = new Stats();
-    private final MapCanvas canvas = new MapCanvas(stats);
+    private final MapCanvas canvas;
     private final JPanel rows = new JPanel();
     private final List<EstimatorRow> rowList = new ArrayList<>();
     private final Set<String> hidden = new HashSet<>();
@@ -42,6 +43,7 @@ final class MapView extends JPanel {
     MapView(ViewOptions options) {
         super(new BorderLayout());
         this.options = options;
+        canvas = new MapCanvas(stats, options.repaintHz);
         add(canvas, BorderLayout.CENTER);
 
         rows.setLayout(new BoxLayout(rows, BoxLayout.Y_AXIS));
@@ -92,6 +94,7 @@ final class MapView extends JPanel {
 
     void stop() {
         timer.stop();
+        canvas.stop();
         if (listener != null) listener.close();
         listener = null;
     }
@@ -108,7 +111,6 @@ final class MapView extends JPanel {
         current = model.snapshot();
         syncRows(current);
         canvas.setSnapshot(current, hidden);
-        canvas.repaint();
     }
 
     String statsLine() {
@@ -138,7 +140,6 @@ final class MapView extends JPanel {
         for (EstimatorRow r : rowList)
             if (!r.shown.isSelected()) hidden.add(r.name);
         canvas.setSnapshot(current, hidden);
-        canvas.repaint();
     }
 
     private void setAllShown(boolean shown) {
@@ -147,9 +148,8 @@ final class MapView extends JPanel {
     }
 
     private void writeSnapshot() {
-        tick();  // the newest data
         try {
-            SnapshotWriter.write(this, canvas, current, hidden, statsLine(), options.snapshot);
+            SnapshotWriter.write(this, canvas, statsLine(), options.snapshot);
             System.out.println("roam map view: snapshot " + options.snapshot);
         } catch (IOException | RuntimeException e) {
             System.err.println("roam map view: cannot write " + options.snapshot + ": " + e);

@@ -26,16 +26,19 @@ import javax.swing.SwingUtilities;
 final class SnapshotWriter {
     private SnapshotWriter() {}
 
-    static void write(JComponent view, MapCanvas canvas, MapModel.Snapshot s, Set<String> hidden, String stats,
-                      String pngPath) throws IOException {
+    static void write(JComponent view, MapCanvas canvas, String stats, String pngPath)
+        throws IOException {
         final BufferedImage image = new BufferedImage(view.getWidth(), view.getHeight(), BufferedImage.TYPE_INT_RGB);
         final Graphics2D g = image.createGraphics();
         view.paint(g);
         g.dispose();
-        final WorldTransform t = canvas.lastTransform();
-        if (t == null) throw new IOException("the map has not been painted yet");
+        final MapCanvas.Frame frame = canvas.paintedFrame();
+        if (frame == null) throw new IOException("the map has not been drawn yet");
+        final WorldTransform t = frame.transform;
         final Point at = SwingUtilities.convertPoint(canvas, 0, 0, view);
-        final Rectangle legend = canvas.legendRect();
+        final Rectangle legend = frame.legend;
+        final MapModel.Snapshot s = frame.snapshot;
+        final Set<String> hidden = frame.hidden;
 
         final File png = new File(pngPath);
         final File sidecar = new File(pngPath + ".txt");
