@@ -20,6 +20,8 @@ import roam.trajectory_t;
  */
 final class BusListener implements LCMSubscriber {
     private static final int QUEUE = 50000;
+    /** The channels the view draws (a regular expression, as LCM subscribes). */
+    static final String CHANNELS = "GROUND_TRUTH|INITIAL_POSE|BEACONS|POSE_.*|MAP_.*|TRAJECTORY_.*|STATUS_.*";
 
     private static final class Raw {
         final String channel;
@@ -47,7 +49,7 @@ final class BusListener implements LCMSubscriber {
         decoder = new Thread(this::decodeLoop, "roam-map-decoder");
         decoder.setDaemon(true);
         decoder.start();
-        lcm.subscribe("GROUND_TRUTH|INITIAL_POSE|BEACONS|POSE_.*|MAP_.*|TRAJECTORY_.*|STATUS_.*", this);
+        lcm.subscribe(CHANNELS, this);
     }
 
     /** Roam's output and reference types, by fingerprint (the first 8 bytes of a message). */
@@ -91,20 +93,26 @@ final class BusListener implements LCMSubscriber {
     }
 
     private void decode(Raw raw) throws IOException {
-        if (raw.data.length < 8) throw new IOException("short message on " + raw.channel);
+        if (!decode(model, raw.channel, raw.data)) stats.ignored.incrementAndGet();
+    }
+
+    /** Decodes one message into the model by its type; false when it is no type the view draws. */
+    static boolean decode(MapModel model, String channel, byte[] data) throws IOException {
+        if (data.length < 8) throw new IOException("short message on " + channel);
         long fingerprint = 0;
-        for (int i = 0; i < 8; ++i) fingerprint = (fingerprint << 8) | (raw.data[i] & 0xFF);
-        final LCMDataInputStream in = new LCMDataInputStream(raw.data);
-        if (fingerprint == pose_t.LCM_FINGERPRINT) model.onPose(raw.channel, new pose_t(in));
-        else if (fingerprint == map_t.LCM_FINGERPRINT) model.onMap(raw.channel, new map_t(in));
-        else if (fingerprint == trajectory_t.LCM_FINGERPRINT) model.onTrajectory(raw.channel, new trajectory_t(in));
-        else if (fingerprint == estimator_status_t.LCM_FINGERPRINT) model.onStatus(raw.channel, new estimator_status_t(in));
-        else stats.ignored.incrementAndGet();  // another type on a matching channel name
+        for (int i = 0; i < 8; ++i) fingerprint = (fingerprint << 8) | (data[i] & 0xFF);
+        final LCMDataInputStream in = new LCMDataInputStream(data);
+        if (fingerprint == pose_t.LCM_FINGERPRINT) model.onPose(channel, new pose_t(in));
+        else if (fingerprint == map_t.LCM_FINGERPRINT) model.onMap(channel, new map_t(in));
+        else if (fingerprint == trajectory_t.LCM_FINGERPRINT) model.onTrajectory(channel, new trajectory_t(in));
+        else if (fingerprint == estimator_status_t.LCM_FINGERPRINT) model.onStatus(channel, new estimator_status_t(in));
+        else return false;  // another type on a matching channel name
+        return true;
     }
 
     void close() {
         running = false;
-        lcm.unsubscribe("GROUND_TRUTH|INITIAL_POSE|BEACONS|POSE_.*|MAP_.*|TRAJECTORY_.*|STATUS_.*", this);
+        lcm.unsubscribe(CHANNELS, this);
         lcm.close();
         decoder.interrupt();
     }

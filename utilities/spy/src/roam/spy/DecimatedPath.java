@@ -84,16 +84,19 @@ final class DecimatedPath {
         return tailY;
     }
 
-    /** The stored points plus the tail, as one polyline: {xs, ys}. */
+    /** The stored points plus the tail, as one polyline: {xs, ys, utimes} (utimes exact as doubles). */
     double[][] copyPolyline() {
         final boolean addTail = hasTail && (size == 0 || utimes[size - 1] != tailUtime);
         final int n = size + (addTail ? 1 : 0);
         final double[] x = Arrays.copyOf(xs, n);
         final double[] y = Arrays.copyOf(ys, n);
+        final double[] t = new double[n];
+        for (int i = 0; i < size; ++i) t[i] = utimes[i];
         if (addTail) {
             x[n - 1] = tailX;
             y[n - 1] = tailY;
+            t[n - 1] = tailUtime;
         }
-        return new double[][] {x, y};
+        return new double[][] {x, y, t};
     }
 }

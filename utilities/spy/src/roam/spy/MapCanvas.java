@@ -17,7 +17,8 @@ import javax.swing.JComponent;
 
 /**
  * The map on screen. A render thread draws the newest snapshot into an image (MapPainter) at
- * most `hz` times a second and only when something changed; the Swing thread only copies the
+ * most `hz` times a second, only when something changed, and never more than a third of the
+ * time (a slow frame delays the next); the Swing thread only copies the
  * finished image, so a map of sixteen long paths never holds up Swing (lcm-spy's table included).
  * Until the user zooms (wheel) or pans (drag) the view fits ground truth and beacons
  * (roam-plot's window); a double click fits again.
@@ -166,6 +167,9 @@ final class MapCanvas extends JComponent {
 
     private void renderLoop() {
         long lastNs = System.nanoTime() - periodNs;
+        long tookNs = 0;
+        MapPainter.Layer layer = null;
+        WorldTransform lastFit = null;
         for (;;) {
             final MapModel.Snapshot s;
             final Set<String> h;
@@ -174,7 +178,8 @@ final class MapCanvas extends JComponent {
                 synchronized (lock) {
                     while (running && (!dirty || width <= 0 || height <= 0)) lock.wait();
                     if (!running) return;
-                    final long wait = lastNs + periodNs - System.nanoTime();  // the rate bound
+                    // The rate bound, and at most a third of a core however long a frame takes.
+                    final long wait = lastNs + Math.max(periodNs, 3 * tookNs) - System.nanoTime();
                     if (wait > 0) {
                         lock.wait(wait / 1_000_000, (int) (wait % 1_000_000));
                         continue;
@@ -182,23 +187,25 @@ final class MapCanvas extends JComponent {
                     dirty = false;
                     s = snapshot;
                     h = hidden;
-                    t = autoFit ? MapPainter.fitted(s, h, width, height)
+                    t = autoFit ? (lastFit = MapPainter.fittedSticky(lastFit, s, h, width, height))
                                 : new WorldTransform(userScale, userCentreX, userCentreY, width, height);
                 }
             } catch (InterruptedException e) {
                 return;
             }
             lastNs = System.nanoTime();
+            layer = MapPainter.layer(layer, s, h, t);
             final BufferedImage image = new BufferedImage(t.widthPx, t.heightPx, BufferedImage.TYPE_INT_RGB);
             final Graphics2D g = image.createGraphics();
             final Rectangle legend;
             try {
-                legend = MapPainter.draw(g, s, h, t);
+                legend = MapPainter.draw(g, s, h, t, layer);
             } finally {
                 g.dispose();
             }
             frame = new Frame(image, t, legend, s, h);
-            stats.recordPaint(System.nanoTime() - lastNs);
+            tookNs = System.nanoTime() - lastNs;
+            stats.recordPaint(tookNs);
             repaint();
         }
     }

@@ -115,7 +115,7 @@ final class MapModel {
     static final class Track {
         String name;
         int colourIndex;
-        double[][] path;         // POSE_ path {xs, ys}
+        double[][] path;         // POSE_ path {xs, ys, utimes}
         double[][] trajectory;   // latest TRAJECTORY_ or null
         List<Beacon> map = new ArrayList<>();
         estimator_status_t status;
@@ -130,7 +130,7 @@ final class MapModel {
     /** A consistent copy of everything drawn, taken under the lock. */
     static final class Snapshot {
         long version;
-        double[][] truthPath;
+        double[][] truthPath;    // {xs, ys, utimes}
         long truthLastUtime;
         double[] start;
         List<Beacon> beacons = new ArrayList<>();

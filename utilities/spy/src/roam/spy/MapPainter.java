@@ -11,14 +11,17 @@ import java.awt.geom.AffineTransform;
 import java.awt.geom.Ellipse2D;
 import java.awt.geom.Line2D;
 import java.awt.geom.Path2D;
+import java.awt.image.BufferedImage;
+import java.util.HashMap;
+import java.util.HashSet;
+import java.util.Map;
 import java.util.Set;
 
 /**
  * Draws the map, to scale: ground truth, each shown estimator's POSE_ path (solid), latest
- * TRAJECTORY_ (dashed) and MAP_ (crosses with 2-sigma ellipses), its current position, surveyed
+ * TRAJECTORY_ (a pale band beneath) and MAP_ (crosses with 2-sigma ellipses), its current position, surveyed
  * beacons, the start, a legend of marks and a scale bar. Styles follow roam-plot
- * (plot_marks.cpp). Polylines skip points less than a pixel from the last one drawn, so the cost
- * follows the picture's size, not the path's length. Called off the Swing thread (MapCanvas).
+ * (plot_marks.cpp). Polylines skip points less than a pixel from the last one drawn. Called off the Swing thread (MapCanvas).
  */
 final class MapPainter {
     private static final int MARGIN_PX = 24;
@@ -26,8 +29,9 @@ final class MapPainter {
     private static final Font FONT = new Font(Font.SANS_SERIF, Font.PLAIN, 11);
     private static final Stroke TRUTH = new BasicStroke(4f, BasicStroke.CAP_ROUND, BasicStroke.JOIN_ROUND);
     private static final Stroke PATH = new BasicStroke(2f, BasicStroke.CAP_ROUND, BasicStroke.JOIN_ROUND);
-    private static final Stroke TRAJECTORY = new BasicStroke(1.4f, BasicStroke.CAP_BUTT, BasicStroke.JOIN_ROUND, 10f,
-                                                             new float[] {6f, 4f}, 0f);
+    // The latest TRAJECTORY_: a pale band under the POSE_ path (a dashed line, as in roam-plot,
+    // costs several times more to draw on every frame).
+    private static final Stroke TRAJECTORY = new BasicStroke(4f, BasicStroke.CAP_ROUND, BasicStroke.JOIN_ROUND);
     private static final Stroke ELLIPSE = new BasicStroke(1f, BasicStroke.CAP_BUTT, BasicStroke.JOIN_ROUND, 10f,
                                                           new float[] {3f, 2f}, 0f);
     private static final Stroke CROSS = new BasicStroke(2.4f);
@@ -35,29 +39,111 @@ final class MapPainter {
 
     private MapPainter() {}
 
-    /** Draws everything into g over t's width x height; returns where the legend box went. */
-    static Rectangle draw(Graphics2D g, MapModel.Snapshot s, Set<String> hidden, WorldTransform t) {
-        g.setRenderingHint(RenderingHints.KEY_ANTIALIASING, RenderingHints.VALUE_ANTIALIAS_ON);
-        g.setRenderingHint(RenderingHints.KEY_STROKE_CONTROL, RenderingHints.VALUE_STROKE_PURE);
-        g.setColor(Color.WHITE);
-        g.fillRect(0, 0, t.widthPx, t.heightPx);
-                    drawGrid(g, t);
+    /** Rebuild the layer at most this often for new trajectories or long tails. */
+    static final long REBUILD_NS = 500_000_000L;
+    /** A path tail longer than this (points) asks for a rebuild. */
+    static final int TAIL_POINTS = 200;
+
+    /**
+     * The picture's slow part, drawn into an image once and copied into each frame: the grid,
+     * ground truth, every shown trajectory and every shown POSE_ path up to the times noted. A
+     * frame adds the paths' newer points (the "tails") and everything small on top. Rebuilt at
+     * once when the transform, the size or the shown set changes, and at most every REBUILD_NS
+     * when a trajectory was replaced or a tail grew past TAIL_POINTS, so a frame of sixteen
+     * Plaza-length paths costs a copy and a few hundred segments, not ~70,000 segments.
+     */
+    static final class Layer {
+        final BufferedImage image;
+        final WorldTransform transform;
+        final Set<String> hidden;
+        final double truthUntil;
+        final Map<String, Double> pathUntil = new HashMap<>();
+        final Map<String, double[][]> trajectories = new HashMap<>();
+        final long builtNs = System.nanoTime();
+
+        Layer(BufferedImage image, WorldTransform transform, Set<String> hidden, double truthUntil) {
+            this.image = image;
+            this.transform = transform;
+            this.hidden = hidden;
+            this.truthUntil = truthUntil;
+        }
+
+        boolean sameView(WorldTransform t, Set<String> h) {
+            return t.scalePxPerM == transform.scalePxPerM && t.centreXm == transform.centreXm
+                && t.centreYm == transform.centreYm && t.widthPx == transform.widthPx
+                && t.heightPx == transform.heightPx && h.equals(hidden);
+        }
+
+        boolean outdated(MapModel.Snapshot s) {
+            if (s.truthPath != null && tailStart(s.truthPath, truthUntil) < s.truthPath[0].length - TAIL_POINTS) return true;
+            for (MapModel.Track track : s.tracks) {
+                if (hidden.contains(track.name)) continue;
+                final Double until = pathUntil.get(track.name);
+                if (until == null || track.trajectory != trajectories.get(track.name)) return true;
+                if (tailStart(track.path, until) < track.path[0].length - TAIL_POINTS) return true;
+            }
+            return false;
+        }
+    }
+
+    /** The layer to draw s with: `old` while it will do, else a new one. */
+    static Layer layer(Layer old, MapModel.Snapshot s, Set<String> hidden, WorldTransform t) {
+        if (old != null && old.sameView(t, hidden)
+            && (System.nanoTime() - old.builtNs < REBUILD_NS || !old.outdated(s)))
+            return old;
+        final BufferedImage image = new BufferedImage(t.widthPx, t.heightPx, BufferedImage.TYPE_INT_RGB);
+        final Graphics2D g = image.createGraphics();
+        try {
+            hints(g);
+            g.setColor(Color.WHITE);
+            g.fillRect(0, 0, t.widthPx, t.heightPx);
+            drawGrid(g, t);
+            final double truthUntil = s.truthPath == null ? Double.NEGATIVE_INFINITY : last(s.truthPath);
+            final Layer layer = new Layer(image, t, new HashSet<>(hidden), truthUntil);
+            if (s.truthPath != null) {
+                g.setColor(Palette.TRUTH);
+                g.setStroke(TRUTH);
+                drawPolyline(g, t, s.truthPath, 0);
+            }
+            for (MapModel.Track track : s.tracks) {
+                if (hidden.contains(track.name)) continue;
+                layer.trajectories.put(track.name, track.trajectory);
+                if (track.trajectory == null) continue;
+                g.setColor(pale(Palette.series(track.colourIndex)));
+                g.setStroke(TRAJECTORY);
+                drawPolyline(g, t, track.trajectory, 0);
+            }
+            g.setStroke(PATH);
+            for (MapModel.Track track : s.tracks) {
+                if (hidden.contains(track.name)) continue;
+                layer.pathUntil.put(track.name, last(track.path));
+                g.setColor(Palette.series(track.colourIndex));
+                drawPolyline(g, t, track.path, 0);
+            }
+            return layer;
+        } finally {
+            g.dispose();
+        }
+    }
+
+    /** Draws a frame: the layer, the newer points, maps, markers, legend. Returns the legend box. */
+    static Rectangle draw(Graphics2D g, MapModel.Snapshot s, Set<String> hidden, WorldTransform t, Layer layer) {
+        g.drawImage(layer.image, 0, 0, null);
+        hints(g);
         if (s.truthPath != null) {
             g.setColor(Palette.TRUTH);
             g.setStroke(TRUTH);
-            g.draw(polyline(t, s.truthPath));
+            drawPolyline(g, t, s.truthPath, tailStart(s.truthPath, layer.truthUntil));
         }
+        g.setStroke(PATH);
         for (MapModel.Track track : s.tracks) {
             if (hidden.contains(track.name)) continue;
-            final Color colour = Palette.series(track.colourIndex);
-            g.setColor(colour);
-            if (track.trajectory != null) {
-                g.setStroke(TRAJECTORY);
-                g.draw(polyline(t, track.trajectory));
-            }
-            g.setStroke(PATH);
-            g.draw(polyline(t, track.path));
-            drawMap(g, t, track, colour);
+            final Double until = layer.pathUntil.get(track.name);
+            g.setColor(Palette.series(track.colourIndex));
+            drawPolyline(g, t, track.path, until == null ? 0 : tailStart(track.path, until));
+        }
+        for (MapModel.Track track : s.tracks) {
+            if (!hidden.contains(track.name)) drawMap(g, t, track, Palette.series(track.colourIndex));
         }
         for (MapModel.Track track : s.tracks) {  // current positions above every path
             if (hidden.contains(track.name) || !track.hasPose) continue;
@@ -107,18 +193,65 @@ final class MapPainter {
         return WorldTransform.fit(box.xLo, box.xHi, box.yLo, box.yHi, width, height, MARGIN_PX);
     }
 
-    private static Path2D polyline(WorldTransform t, double[][] xy) {
+    /**
+     * The fit for s, or `previous` (an earlier fit) while it still shows everything the new fit
+     * would and is not much smaller in scale: a growing path does not move the picture (and force
+     * a new layer) on every frame.
+     */
+    static WorldTransform fittedSticky(WorldTransform previous, MapModel.Snapshot s, Set<String> hidden, int width,
+                                       int height) {
+        final WorldTransform fit = fitted(s, hidden, width, height);
+        if (previous == null || previous.widthPx != width || previous.heightPx != height) return fit;
+        if (previous.scalePxPerM > fit.scalePxPerM * 1.000001 || previous.scalePxPerM < 0.8 * fit.scalePxPerM) return fit;
+        // The new fit's content (inside its margin) must lie inside the previous one's view.
+        final double xLo = fit.worldX(MARGIN_PX), xHi = fit.worldX(width - MARGIN_PX);
+        final double yHi = fit.worldY(MARGIN_PX), yLo = fit.worldY(height - MARGIN_PX);
+        final boolean inside = previous.px(xLo) >= 0 && previous.px(xHi) <= width && previous.py(yHi) >= 0
+                               && previous.py(yLo) <= height;
+        return inside ? previous : fit;
+    }
+
+    /** The colour mixed 2:3 with white. */
+    static Color pale(Color c) {
+        return new Color(255 - (255 - c.getRed()) * 2 / 5, 255 - (255 - c.getGreen()) * 2 / 5, 255 - (255 - c.getBlue()) * 2 / 5);
+    }
+
+    // Polylines go to the rasteriser in short pieces: one long path that crosses the picture many
+    // times makes every scan line carry hundreds of edges (a Plaza path at 16 estimators took
+    // ~90 ms a frame as whole shapes). Pieces share their end points; round caps hide the seams.
+    private static final int PIECE_POINTS = 48;
+
+    private static void hints(Graphics2D g) {
+        g.setRenderingHint(RenderingHints.KEY_ANTIALIASING, RenderingHints.VALUE_ANTIALIAS_ON);
+        g.setRenderingHint(RenderingHints.KEY_STROKE_CONTROL, RenderingHints.VALUE_STROKE_PURE);
+    }
+
+    private static double last(double[][] path) {
+        return path[2].length == 0 ? Double.NEGATIVE_INFINITY : path[2][path[2].length - 1];
+    }
+
+    /** The index the tail after `until` starts at: the last point at or before it (so it joins). */
+    static int tailStart(double[][] path, double until) {
+        int i = java.util.Arrays.binarySearch(path[2], until);
+        if (i < 0) i = -i - 2;  // the last one before
+        return Math.max(0, i);
+    }
+
+    /** Draws xy's points from index `from` on. */
+    private static void drawPolyline(Graphics2D g, WorldTransform t, double[][] xy, int from) {
         final int n = xy[0].length;
-        final Path2D.Double p = new Path2D.Double(Path2D.WIND_NON_ZERO, Math.min(n, 4096));
-        boolean open = false;
+        Path2D.Double p = new Path2D.Double(Path2D.WIND_NON_ZERO, PIECE_POINTS + 1);
+        int inPiece = 0;
         double lastX = 0, lastY = 0;
-        for (int i = 0; i < n; ++i) {
+        for (int i = from; i < n; ++i) {
             if (!Double.isFinite(xy[0][i]) || !Double.isFinite(xy[1][i])) {
-                open = false;
+                if (inPiece > 1) g.draw(p);
+                p = new Path2D.Double(Path2D.WIND_NON_ZERO, PIECE_POINTS + 1);
+                inPiece = 0;
                 continue;
             }
             final double x = t.px(xy[0][i]), y = t.py(xy[1][i]);
-            if (!open) {
+            if (inPiece == 0) {
                 p.moveTo(x, y);
             } else if (i == n - 1 || Math.abs(x - lastX) + Math.abs(y - lastY) >= MIN_STEP_PX) {
                 p.lineTo(x, y);
@@ -127,9 +260,14 @@ final class MapPainter {
             }
             lastX = x;
             lastY = y;
-            open = true;
+            if (++inPiece == PIECE_POINTS) {
+                g.draw(p);
+                p = new Path2D.Double(Path2D.WIND_NON_ZERO, PIECE_POINTS + 1);
+                p.moveTo(x, y);
+                inPiece = 1;
+            }
         }
-        return p;
+        if (inPiece > 1) g.draw(p);
     }
 
     private static void drawMap(Graphics2D g, WorldTransform t, MapModel.Track track, Color colour) {
@@ -218,7 +356,7 @@ final class MapPainter {
     // roam-plot's legend of marks; the estimators' colours are the checkboxes beside the map.
     private static Rectangle drawLegend(Graphics2D g) {
         final String[] labels = {"ground truth", "start", "true beacon", "estimated beacon", "2\u03C3 ellipse",
-                                 "POSE_ path", "latest TRAJECTORY_"};
+                                 "POSE_ path", "latest TRAJECTORY_ (pale)"};
         g.setFont(FONT);
         final int row = 16, x0 = 8, y0 = 8, swatch = 24;
         int w = 0;
@@ -242,7 +380,7 @@ final class MapPainter {
                     break;
                 case 4: g.setColor(Palette.LEGEND_GREY); g.setStroke(ELLIPSE); g.draw(new Ellipse2D.Double(cx - 11, mid - 6, 22, 12)); break;
                 case 5: g.setColor(Palette.LEGEND_GREY); g.setStroke(PATH); g.draw(new Line2D.Double(sx, mid, sx + swatch, mid)); break;
-                default: g.setColor(Palette.LEGEND_GREY); g.setStroke(TRAJECTORY); g.draw(new Line2D.Double(sx, mid, sx + swatch, mid)); break;
+                default: g.setColor(pale(Palette.series(0))); g.setStroke(TRAJECTORY); g.draw(new Line2D.Double(sx, mid, sx + swatch, mid)); break;
             }
             g.setColor(Palette.OUTLINE);
             g.drawString(labels[i], x0 + swatch + 12, (float) (mid + 4));
