@@ -42,6 +42,7 @@ final class MapCanvas extends JComponent {
         }
     }
 
+    private static final java.lang.management.ThreadMXBean CPU = java.lang.management.ManagementFactory.getThreadMXBean();
     private final Stats stats;
     private final long periodNs;
     private final Object lock = new Object();  // guards everything below up to `frame`
@@ -194,6 +195,8 @@ final class MapCanvas extends JComponent {
                 return;
             }
             lastNs = System.nanoTime();
+            final long cpuStart = CPU.getCurrentThreadCpuTime();
+            final MapPainter.Layer before = layer;
             layer = MapPainter.layer(layer, s, h, t);
             final BufferedImage image = new BufferedImage(t.widthPx, t.heightPx, BufferedImage.TYPE_INT_RGB);
             final Graphics2D g = image.createGraphics();
@@ -205,7 +208,7 @@ final class MapCanvas extends JComponent {
             }
             frame = new Frame(image, t, legend, s, h);
             tookNs = System.nanoTime() - lastNs;
-            stats.recordPaint(tookNs);
+            stats.recordPaint(tookNs, CPU.getCurrentThreadCpuTime() - cpuStart, layer != before);
             repaint();
         }
     }

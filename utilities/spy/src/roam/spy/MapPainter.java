@@ -40,7 +40,7 @@ final class MapPainter {
     private MapPainter() {}
 
     /** Rebuild the layer at most this often for new trajectories or long tails. */
-    static final long REBUILD_NS = 500_000_000L;
+    static final long REBUILD_NS = 1_000_000_000L;
     /** A path tail longer than this (points) asks for a rebuild. */
     static final int TAIL_POINTS = 200;
 

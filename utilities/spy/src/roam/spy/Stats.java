@@ -20,7 +20,9 @@ final class Stats {
     private long lagMaxNs;
 
     private long paints;
+    private long layers;
     private long paintNsMax;
+    private long paintCpuNsTotal;
     // The newest repaints: when each started and how long it took (the rate and cost now).
     private final long[] paintAtNs = new long[64];
     private final long[] paintTookNs = new long[64];
@@ -32,7 +34,10 @@ final class Stats {
         lagMaxNs = Math.max(lagMaxNs, ns);
     }
 
-    synchronized void recordPaint(long ns) {
+    /** A frame drawn: wall and CPU time, and whether it needed a new layer (MapPainter.Layer). */
+    synchronized void recordPaint(long ns, long cpuNs, boolean newLayer) {
+        paintCpuNsTotal += cpuNs;
+        if (newLayer) ++layers;
         final int i = (int) (paints % paintAtNs.length);
         paintAtNs[i] = System.nanoTime() - ns;
         paintTookNs[i] = ns;
@@ -69,8 +74,8 @@ final class Stats {
         final double[] paint = paintRate();
         return String.format(
             "received %d, dropped %d, undecodable %d, backlog %d \u00B7 lag median %.2f ms, p99 %.2f ms, max %.1f ms"
-                + " \u00B7 %.1f repaints/s, %.1f ms each (max %.0f)",
+                + " \u00B7 %.1f frames/s, %.1f ms each (max %.0f); all %d frames: %.1f ms CPU each, %d new layers",
             received.get(), dropped.get(), errors.get(), backlog, lag[0], lag[1], lagMaxNs / 1e6, paint[0], paint[1],
-            paintNsMax / 1e6);
+            paintNsMax / 1e6, paints, paints == 0 ? 0.0 : paintCpuNsTotal / 1e6 / paints, layers);
     }
 }
