@@ -41,15 +41,47 @@ final class BusListener implements LCMSubscriber {
     private final LCM lcm;
     private final Thread decoder;
     private volatile boolean running = true;
+    /** The UDP receive buffer the kernel granted (0: not a udpm:// bus, or unknown). */
+    final int receiveBufferBytes;
+    private static final int WANTED_RECEIVE_BUFFER = 8 << 20;
 
     BusListener(String url, MapModel model, Stats stats) throws IOException {
         this.model = model;
         this.stats = stats;
         lcm = (url == null || url.isEmpty()) ? new LCM() : new LCM(url);
+        receiveBufferBytes = widenReceiveBuffer(lcm);
         decoder = new Thread(this::decodeLoop, "roam-map-decoder");
         decoder.setDaemon(true);
         decoder.start();
         lcm.subscribe(CHANNELS, this);
+    }
+
+    /**
+     * Asks for a large UDP receive buffer (the kernel caps it at net.core.rmem_max). LCM's Java
+     * library has no URL option for it, and the default (net.core.rmem_default, often 208 KB) is
+     * less than one Plaza-length TRAJECTORY_ (~310 KB in five 64 KB fragments): sixteen smoothers
+     * publishing at once would overflow it. Reaches LCM's socket by reflection (LCM 1.3.1:
+     * LCM.providers, UDPMulticastProvider.sock); on any other layout it changes nothing.
+     */
+    static int widenReceiveBuffer(LCM lcm) {
+        try {
+            final java.lang.reflect.Field providers = LCM.class.getDeclaredField("providers");
+            providers.setAccessible(true);
+            int granted = 0;
+            for (Object provider : (java.util.List<?>) providers.get(lcm)) {
+                for (java.lang.reflect.Field f : provider.getClass().getDeclaredFields()) {
+                    if (!java.net.DatagramSocket.class.isAssignableFrom(f.getType())) continue;
+                    f.setAccessible(true);
+                    final java.net.DatagramSocket socket = (java.net.DatagramSocket) f.get(provider);
+                    if (socket == null) continue;
+                    socket.setReceiveBufferSize(WANTED_RECEIVE_BUFFER);
+                    granted = socket.getReceiveBufferSize();
+                }
+            }
+            return granted;
+        } catch (ReflectiveOperationException | RuntimeException | java.net.SocketException e) {
+            return 0;
+        }
     }
 
     /** Roam's output and reference types, by fingerprint (the first 8 bytes of a message). */

@@ -83,7 +83,8 @@ final class MapView extends JPanel {
     /** Subscribes and starts repainting. */
     void start() throws IOException {
         listener = new BusListener(options.lcmUrl, model, stats);
-        System.out.println("roam map view: listening on " + (options.lcmUrl.isEmpty() ? "LCM's default URL" : options.lcmUrl));
+        System.out.println("roam map view: listening on " + (options.lcmUrl.isEmpty() ? "LCM's default URL" : options.lcmUrl)
+                           + (listener.receiveBufferBytes > 0 ? " (receive buffer " + listener.receiveBufferBytes + " bytes)" : ""));
         timer.start();
         if (!options.snapshot.isEmpty()) {
             final Timer once = new Timer((int) Math.round(options.snapshotAfterS * 1000), e -> writeSnapshot());
