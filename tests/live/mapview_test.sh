@@ -7,7 +7,9 @@
 # view writes a PNG of itself and, beside it, the world-to-pixel transform of that same paint.
 # roam-run is then stopped (its log closes) and MapViewCheck compares the PNG with that log:
 # beacons, ground truth and both estimators' paths at their computed pixels, in roam-plot's
-# colours. The optional third argument receives a screenshot of the whole screen (spy and view).
+# colours. With xdotool installed, the view is also opened the way a person does, from lcm-spy's
+# context menu on a channel row. The optional third argument receives a screenshot of the whole
+# screen (spy and view).
 # ROAM_TEST_KEEP=DIR keeps the snapshot, its sidecar, the run's log and the outputs there.
 # Exit 77 (skipped) without Xvfb, java or network namespaces.
 set -uo pipefail
@@ -55,6 +57,23 @@ for _ in $(seq $((SNAPSHOT_AFTER_S * 5 + 300))); do [ -f "$snapshot" ] && break;
 if [ -n "$screenshot" ] && command -v import >/dev/null; then
   DISPLAY="$display" import -window root "$screenshot"
 fi
+# The way a person opens it: lcm-spy's context menu on a roam channel offers the plugin's action.
+# Right-click the table's first row (BEACONS: sorted by name, spy's window at the origin), then
+# click the menu's second item ("Structure Viewer..." is the first); a second view must open.
+menu_status=0
+if command -v xdotool >/dev/null; then
+  DISPLAY="$display" xdotool mousemove 60 25 click 3; sleep 1
+  DISPLAY="$display" xdotool mousemove 100 56 click 1
+  for _ in $(seq 50); do [ "$(grep -c 'roam map view: listening' "$work/spy.txt")" -ge 2 ] && break; sleep 0.2; done
+  if [ "$(grep -c 'roam map view: listening' "$work/spy.txt")" -ge 2 ] &&
+     DISPLAY="$display" xdotool search --name '^roam map view' >/dev/null; then
+    echo "ok: lcm-spy's context menu opened a second map view"
+  else
+    echo "FAILED: lcm-spy's context menu did not open the map view"; menu_status=1
+  fi
+else
+  echo "NOTE: xdotool is not installed: lcm-spy's context menu not exercised"
+fi
 kill "$player_pid" 2>/dev/null
 kill -INT "$run_pid"
 for _ in $(seq 300); do kill -0 "$run_pid" 2>/dev/null || break; sleep 0.1; done
@@ -67,4 +86,5 @@ lcm_jar=/usr/share/java/lcm.jar
 [ -f "$lcm_jar" ] || lcm_jar=/usr/local/share/java/lcm.jar
 # Colours: roam-plot's palette in order of appearance (roam-run publishes in config order).
 java -cp "$lcm_jar:$build/share/java/lcmtypes_roam.jar" "$source/tests/live/MapViewCheck.java" \
-  "$snapshot" "$work/run.lcmlog" 'dr=#0072B2' 'ekf=#D55E00'
+  "$snapshot" "$work/run.lcmlog" 'dr=#0072B2' 'ekf=#D55E00' || exit 1
+exit $menu_status
