@@ -44,7 +44,8 @@ final class EstimatorTrack {
     }
 
     void setTrajectory(long utime, int n, double[] x, double[] y, int cap) {
-        final int step = Math.max(1, (n + cap - 1) / cap);
+        // Every step-th pose and the last: at most cap points (step = ceil((n - 1) / (cap - 1))).
+        final int step = n <= cap ? 1 : (n - 1 + cap - 2) / (cap - 1);
         final int kept = n == 0 ? 0 : (n - 1) / step + 1 + ((n - 1) % step != 0 ? 1 : 0);
         final double[] xs = new double[kept];
         final double[] ys = new double[kept];
