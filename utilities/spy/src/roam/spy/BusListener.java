@@ -27,13 +27,21 @@ final class BusListener implements LCMSubscriber {
         final String channel;
         final byte[] data;
         final long receivedNs;
+        final long sequence;
 
-        Raw(String channel, byte[] data, long receivedNs) {
+        Raw(String channel, byte[] data, long receivedNs, long sequence) {
             this.channel = channel;
             this.data = data;
             this.receivedNs = receivedNs;
+            this.sequence = sequence;
         }
     }
+
+    // A whole path replaces the previous one: a TRAJECTORY_ still queued when a newer one on its
+    // channel arrives is skipped undecoded (a Plaza-length one takes milliseconds to decode).
+    private final java.util.concurrent.ConcurrentHashMap<String, Long> newestTrajectory =
+        new java.util.concurrent.ConcurrentHashMap<>();
+    private long sequence;  // LCM's receive thread only
 
     private final MapModel model;
     private final Stats stats;
@@ -103,7 +111,9 @@ final class BusListener implements LCMSubscriber {
             return;
         }
         stats.received.incrementAndGet();
-        if (!queue.offer(new Raw(channel, data, System.nanoTime()))) stats.dropped.incrementAndGet();
+        final long seq = ++sequence;
+        if (channel.startsWith("TRAJECTORY_")) newestTrajectory.put(channel, seq);
+        if (!queue.offer(new Raw(channel, data, System.nanoTime(), seq))) stats.dropped.incrementAndGet();
     }
 
     private void decodeLoop() {
@@ -115,6 +125,11 @@ final class BusListener implements LCMSubscriber {
                 return;
             }
             if (raw == null) continue;
+            final Long newest = newestTrajectory.get(raw.channel);
+            if (newest != null && newest != raw.sequence) {
+                stats.superseded.incrementAndGet();
+                continue;
+            }
             try {
                 decode(raw);
             } catch (IOException | RuntimeException e) {

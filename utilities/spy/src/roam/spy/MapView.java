@@ -100,7 +100,12 @@ final class MapView extends JPanel {
         listener = null;
     }
 
+    private long lastTickNs;
+
     private void tick() {
+        final long now = System.nanoTime();
+        if (lastTickNs != 0) stats.recordSwingDelay(now - lastTickNs - timer.getDelay() * 1_000_000L);
+        lastTickNs = now;
         if (options.statsS > 0 && System.nanoTime() - lastStatsNs >= options.statsS * 1e9) {
             lastStatsNs = System.nanoTime();
             System.out.println("roam map view: " + statsLine());

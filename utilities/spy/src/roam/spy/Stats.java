@@ -13,6 +13,13 @@ final class Stats {
     final AtomicLong dropped = new AtomicLong();
     final AtomicLong errors = new AtomicLong();
     final AtomicLong ignored = new AtomicLong();
+    final AtomicLong superseded = new AtomicLong();  // TRAJECTORY_ skipped: a newer one was queued
+
+    // How late the view's Swing timer fires (newest 256 ticks): what anything on the Swing
+    // thread, lcm-spy's table included, waits for.
+    private final long[] swingDelayNs = new long[256];
+    private int swingCount;
+    private int swingNext;
 
     private final long[] lagsNs = new long[4096];
     private int lagCount;
@@ -26,6 +33,20 @@ final class Stats {
     // The newest repaints: when each started and how long it took (the rate and cost now).
     private final long[] paintAtNs = new long[64];
     private final long[] paintTookNs = new long[64];
+
+    synchronized void recordSwingDelay(long ns) {
+        swingDelayNs[swingNext] = Math.max(0, ns);
+        swingNext = (swingNext + 1) % swingDelayNs.length;
+        swingCount = Math.min(swingCount + 1, swingDelayNs.length);
+    }
+
+    /** {median, max} of the Swing timer's delay in ms over the newest ticks. */
+    synchronized double[] swingDelayMs() {
+        if (swingCount == 0) return new double[] {Double.NaN, Double.NaN};
+        final long[] sorted = Arrays.copyOf(swingDelayNs, swingCount);
+        Arrays.sort(sorted);
+        return new double[] {sorted[swingCount / 2] / 1e6, sorted[swingCount - 1] / 1e6};
+    }
 
     synchronized void recordLag(long ns) {
         lagsNs[lagNext] = ns;
@@ -72,10 +93,13 @@ final class Stats {
     synchronized String line(int backlog) {
         final double[] lag = lagMs();
         final double[] paint = paintRate();
+        final double[] swing = swingDelayMs();
         return String.format(
-            "received %d, dropped %d, undecodable %d, backlog %d \u00B7 lag median %.2f ms, p99 %.2f ms, max %.1f ms"
+            "received %d, dropped %d, undecodable %d, superseded %d, backlog %d \u00B7 lag median %.2f ms, p99 %.2f ms,"
+                + " max %.1f ms \u00B7 Swing timer late %.1f ms median, %.0f ms max"
                 + " \u00B7 %.1f frames/s, %.1f ms each (max %.0f); all %d frames: %.1f ms CPU each, %d new layers",
-            received.get(), dropped.get(), errors.get(), backlog, lag[0], lag[1], lagMaxNs / 1e6, paint[0], paint[1],
+            received.get(), dropped.get(), errors.get(), superseded.get(), backlog, lag[0], lag[1], lagMaxNs / 1e6,
+            swing[0], swing[1], paint[0], paint[1],
             paintNsMax / 1e6, paints, paints == 0 ? 0.0 : paintCpuNsTotal / 1e6 / paints, layers);
     }
 }
