@@ -43,6 +43,7 @@ snapshot="$work/view.png"
 DISPLAY="$display" ROAM_SPY_JAVA_OPTS="-Droam.spy.snapshot=$snapshot -Droam.spy.snapshot_after_s=$SNAPSHOT_AFTER_S \
 -Droam.spy.geometry=1100x800+500+0 -Droam.spy.stats_s=5" \
   ip netns exec "$ns" "$bin/roam-spy" --map --lcm-url="$url" >"$work/spy.txt" 2>&1 &
+disown $!  # killed at the end with the namespace: no job notice
 for _ in $(seq 300); do grep -q "roam map view: listening" "$work/spy.txt" && break; sleep 0.2; done
 if ! grep -q "roam.spy.MapSpyPlugin" "$work/spy.txt" || ! grep -q "roam map view: listening" "$work/spy.txt"; then
   echo "FAILED: lcm-spy did not load the roam map view plugin, or the view did not subscribe"; cat "$work/spy.txt"; exit 1

@@ -156,7 +156,6 @@ final class MapView extends JPanel {
     private void writeSnapshot() {
         try {
             SnapshotWriter.write(this, canvas, statsLine(), options.snapshot);
-            System.out.println("roam map view: snapshot " + options.snapshot);
         } catch (IOException | RuntimeException e) {
             System.err.println("roam map view: cannot write " + options.snapshot + ": " + e);
         }
