@@ -1,0 +1,180 @@
+package roam.spy;
+
+import java.util.Collections;
+import roam.estimator_status_t;
+import roam.pose_t;
+
+/**
+ * Unit tests of the map view's pieces that need no display: path decimation, ground-truth
+ * matching, the 2-sigma ellipse, the world-to-pixel transform and its fits, the model's naming,
+ * colours and error, and the readout's numbers. Expected values are worked out in comments.
+ * Run by ctest (spy_map_view_unit); exit 1 on the first failure.
+ */
+public final class MapViewUnitTest {
+    private static final double kTolerance = 1e-9;
+    private static int checks;
+
+    private MapViewUnitTest() {}
+
+    public static void main(String[] args) {
+        decimatedPathStaysUnderItsCapAndEvenlySpread();
+        decimatedPathEndsAtTheNewestPoint();
+        trajectoryIsDecimatedToItsCapAndKeepsItsEnds();
+        groundTruthInterpolatesLinearly();
+        twoSigmaEllipseMatchesItsEigenvalues();
+        transformFitsABoxAndInvertsItself();
+        stickyFitKeepsAPictureThatStillShowsEverything();
+        modelNamesColoursAndErrors();
+        readoutNumbers();
+        System.out.println("PASSED: " + checks + " checks");
+    }
+
+    static void decimatedPathStaysUnderItsCapAndEvenlySpread() {
+        final DecimatedPath path = new DecimatedPath(100);
+        for (int i = 0; i < 10000; ++i) path.add(i, i, 2 * i);
+        // 10,000 points into 100: the stride doubles each time the path fills, 1 -> 2 -> ... -> 128
+        // (10,000 / 128 = 78 points; at stride 64 it would need 156 > 100).
+        check("size under the cap", path.size() <= 100 && path.size() >= 50);
+        final double[][] p = path.copyPolyline();
+        check("first point kept", p[2][0] == 0);
+        final double stride = p[2][1] - p[2][0];
+        check("stride 128", stride == 128);
+        for (int i = 1; i < path.size(); ++i) check("even spacing", p[2][i] - p[2][i - 1] == stride);
+        for (int i = 0; i < p[0].length; ++i) check("x, y follow t", p[0][i] == p[2][i] && p[1][i] == 2 * p[2][i]);
+    }
+
+    static void decimatedPathEndsAtTheNewestPoint() {
+        final DecimatedPath path = new DecimatedPath(10);
+        for (int i = 0; i < 25; ++i) path.add(i, i, 0);
+        path.add(25, Double.NaN, 0);  // not finite: ignored
+        final double[][] p = path.copyPolyline();
+        check("tail is the newest finite point", p[2][p[2].length - 1] == 24 && path.lastX() == 24);
+    }
+
+    static void trajectoryIsDecimatedToItsCapAndKeepsItsEnds() {
+        final EstimatorTrack track = new EstimatorTrack("t", 0, 100);
+        final double[] x = new double[11], y = new double[11];
+        for (int i = 0; i < 11; ++i) x[i] = i;
+        // 11 poses into 4: step ceil(10 / 3) = 4, poses 0, 4, 8 and the last, 10.
+        track.setTrajectory(0, 11, x, y, 4);
+        checkArray("11 into 4", track.trajectory[0], new double[] {0, 4, 8, 10});
+        // 10 poses into 4: step 3, poses 0, 3, 6, 9 (9 is the last already).
+        track.setTrajectory(0, 10, x, y, 4);
+        checkArray("10 into 4", track.trajectory[0], new double[] {0, 3, 6, 9});
+        track.setTrajectory(0, 3, x, y, 4);
+        checkArray("3 fit", track.trajectory[0], new double[] {0, 1, 2});
+    }
+
+    static void groundTruthInterpolatesLinearly() {
+        final GroundTruth truth = new GroundTruth();
+        truth.add(0, 0, 0);
+        truth.add(10_000_000, 10, 20);
+        truth.add(5_000_000, 99, 99);  // out of order: dropped
+        // Halfway in time, halfway in space: (5, 10).
+        final double[] mid = truth.at(5_000_000);
+        check("x at 5 s", Math.abs(mid[0] - 5) < kTolerance);
+        check("y at 5 s", Math.abs(mid[1] - 10) < kTolerance);
+        check("covers its ends", truth.covers(0) && truth.covers(10_000_000));
+        check("not beyond", !truth.covers(10_000_001) && !truth.covers(-1));
+    }
+
+    static void twoSigmaEllipseMatchesItsEigenvalues() {
+        // diag(4, 1): sigmas 2 and 1, so the 2-sigma half axes are 4 and 2, along x.
+        double[] e = MapPainter.twoSigmaEllipse(4, 0, 1);
+        check("diag major", Math.abs(e[0] - 4) < kTolerance);
+        check("diag minor", Math.abs(e[1] - 2) < kTolerance);
+        check("diag angle", Math.abs(e[2]) < kTolerance);
+        // [[2, 1], [1, 2]]: eigenvalues 3 (along (1, 1)) and 1: half axes 2 sqrt 3 and 2, at 45 degrees.
+        e = MapPainter.twoSigmaEllipse(2, 1, 2);
+        check("tilted major", Math.abs(e[0] - 2 * Math.sqrt(3)) < kTolerance);
+        check("tilted minor", Math.abs(e[1] - 2) < kTolerance);
+        check("tilted angle", Math.abs(e[2] - Math.PI / 4) < kTolerance);
+        // [[1, 2], [2, 1]] has eigenvalues 3 and -1: not a covariance.
+        check("indefinite", MapPainter.twoSigmaEllipse(1, 2, 1) == null);
+        check("unknown", MapPainter.twoSigmaEllipse(Double.NaN, 0, 1) == null);
+    }
+
+    static void transformFitsABoxAndInvertsItself() {
+        // [0, 100] x [0, 50] into 220 x 120 with a 10 px margin: scale min(200 / 100, 100 / 50) = 2
+        // about (50, 25); x = 0 -> 110 + (0 - 50) 2 = 10; y = 50 -> 60 - (50 - 25) 2 = 10 (y down).
+        final WorldTransform t = WorldTransform.fit(0, 100, 0, 50, 220, 120, 10);
+        check("scale", Math.abs(t.scalePxPerM - 2) < kTolerance);
+        check("left edge", Math.abs(t.px(0) - 10) < kTolerance);
+        check("top edge", Math.abs(t.py(50) - 10) < kTolerance);
+        check("round trip x", Math.abs(t.worldX(t.px(37.5)) - 37.5) < kTolerance);
+        check("round trip y", Math.abs(t.worldY(t.py(-12.25)) + 12.25) < kTolerance);
+    }
+
+    static void stickyFitKeepsAPictureThatStillShowsEverything() {
+        final MapModel model = new MapModel();
+        for (int i = 0; i <= 100; ++i) model.onPose("GROUND_TRUTH", pose(i * 1_000_000L, "", i, i % 2));
+        final WorldTransform first = MapPainter.fittedSticky(null, model.snapshot(), Collections.<String>emptySet(), 400, 300);
+        // A little more path inside what is shown: the picture stays as it is.
+        model.onPose("GROUND_TRUTH", pose(101_000_000L, "", 99, 0.5));
+        check("kept", MapPainter.fittedSticky(first, model.snapshot(), Collections.<String>emptySet(), 400, 300) == first);
+        // Path far outside: a new fit.
+        model.onPose("GROUND_TRUTH", pose(102_000_000L, "", 300, 0));
+        check("refit", MapPainter.fittedSticky(first, model.snapshot(), Collections.<String>emptySet(), 400, 300) != first);
+        check("resized", MapPainter.fittedSticky(first, model.snapshot(), Collections.<String>emptySet(), 500, 300) != first);
+    }
+
+    static void modelNamesColoursAndErrors() {
+        final MapModel model = new MapModel();
+        // Ground truth along x at 1 m/s for 10 s.
+        for (int i = 0; i <= 10; ++i) model.onPose("GROUND_TRUTH", pose(i * 1_000_000L, "", i, 0));
+        model.onPose("POSE_B", pose(5_500_000L, "b", 5.5, 3));   // 3 m to the side of (5.5, 0)
+        model.onPose("POSE_A", pose(20_000_000L, "", 20, 0));    // no name: from the channel; past the truth
+        final estimator_status_t status = new estimator_status_t();
+        status.estimator = "b";
+        status.keys = new String[0];
+        status.values = new double[0];
+        model.onStatus("STATUS_B", status);
+        final MapModel.Snapshot s = model.snapshot();
+        check("two estimators", s.tracks.size() == 2);
+        check("order of appearance", s.tracks.get(0).name.equals("b") && s.tracks.get(0).colourIndex == 0);
+        check("named by channel", s.tracks.get(1).name.equals("a") && s.tracks.get(1).colourIndex == 1);
+        check("error 3 m", Math.abs(s.tracks.get(0).errorM - 3) < kTolerance);
+        check("no truth at its time", Double.isNaN(s.tracks.get(1).errorM));
+        check("status kept", s.tracks.get(0).status == status);
+        check("roam-plot's first colour", Palette.hex(Palette.series(0)).equals("#0072B2"));
+        check("roam-plot's second colour", Palette.hex(Palette.series(1)).equals("#D55E00"));
+        check("palette wraps at 8", Palette.series(8).equals(Palette.series(0)));
+    }
+
+    static void readoutNumbers() {
+        check("count", StatusText.number(4.0).equals("4"));
+        check("four digits", StatusText.number(1.06749).equals("1.067"));
+        check("small", StatusText.number(0.0001234).equals("0.0001234"));
+        final estimator_status_t s = new estimator_status_t();
+        s.state = estimator_status_t.FAILED;
+        s.last_error = "boom";
+        s.last_rejection = "";
+        s.keys = new String[] {"range_scale"};
+        s.values = new double[] {1.0125};
+        s.num_values = 1;
+        check("failed", StatusText.status(s).startsWith("FAILED"));
+        check("error first", StatusText.rejection(s).equals("error: boom"));
+        check("diagnostics", StatusText.diagnostics(s)[0].equals("range_scale=1.013"));
+    }
+
+    private static pose_t pose(long utime, String estimator, double x, double y) {
+        final pose_t p = new pose_t();
+        p.utime = utime;
+        p.estimator = estimator;
+        p.x = x;
+        p.y = y;
+        return p;
+    }
+
+    private static void checkArray(String what, double[] got, double[] want) {
+        check(what + ": length " + got.length, got.length == want.length);
+        for (int i = 0; i < want.length; ++i) check(what + "[" + i + "]", got[i] == want[i]);
+    }
+
+    private static void check(String what, boolean ok) {
+        ++checks;
+        if (ok) return;
+        System.out.println("FAILED: " + what);
+        System.exit(1);
+    }
+}
