@@ -57,6 +57,9 @@ int main(int argc, char** argv) {
         std::printf("  step %5zu  scale %.4f +- %.4f  offset %.3f +- %.3f  heading error %.4f +- %.4f rad\n", k,
                     f.scale(), std::sqrt(f.covariance()(3, 3)), f.offset(), std::sqrt(f.covariance()(4, 4)),
                     roam::wrapAngle(f.mean()(2) - data.ground_truth[k + 1].heading_rad), std::sqrt(f.covariance()(2, 2)));
+        if (f.withCalibration())
+          std::printf("          odometry scale %.4f  heading-rate bias %.5f rad/s  beacons %zu\n", f.odometryScale(),
+                      f.headingRateBias(), f.beacons().size());
       }
     }
     while (r < data.ranges.size()) ekf.addRange(data.ranges[r++]);
@@ -118,5 +121,6 @@ int main(int argc, char** argv) {
               static_cast<long long>(ekf.rangesRejected()),
               static_cast<long long>(ekf.rangesRejected() + ekf.rangesAccepted()),
               ekf.diagnostics().at("replays"), cpu_s, 1e6 * cpu_s / n);
+  for (const auto& [key, value] : ekf.diagnostics()) std::printf("  %s = %g\n", key.c_str(), value);
   return 0;
 }
