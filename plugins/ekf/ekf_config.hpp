@@ -48,6 +48,12 @@ struct EkfConfig {
   // Starvation: after this many ranges to known beacons gated in a row, the filter is taken as
   // lost and its position variance is widened by the smallest of their squared innovations.
   int recover_after_gated = 8;
+  // Each recovery also multiplies the odometry covariance by 4 (up to motion_noise_max_scale);
+  // each applied range multiplies it by motion_noise_decay (down to 1).
+  double motion_noise_max_scale = 400.0;
+  double motion_noise_decay = 0.95;
+  // Largest factor on the range variance when applied ranges' NIS averages above 2 (1: off).
+  double range_noise_max_scale = 16.0;
   // Delayed initialisation (anchor = start_pose, or beacons not in BEACONS).
   int init_min_ranges = 6;
   double init_min_baseline_m = 3.0;

@@ -119,7 +119,7 @@ void EkfSlam::runStep(const Step& step, bool live) {
   const Odometry& odo = step.odometry;
   const int64_t t0 = state_utime_, t1 = odo.utime;
   const double dt_s = std::max<int64_t>(0, t1 - t0) * 1e-6;
-  const Eigen::Matrix3d Q = estimation::incrementCovariance(odo, dt_s, motionNoise(odo));
+  const Eigen::Matrix3d Q = motion_noise_scale_ * estimation::incrementCovariance(odo, dt_s, motionNoise(odo));
   const double bias_walk_var = std::pow(config_.gyro_bias_walk_rad_s_per_sqrt_s, 2) * dt_s;
   // The step is straight with the turn at its end: a range at fraction a of the step's time is
   // applied after a straight part a (u, v) (no turn, no bias: dt 0), its translation noise a Q_tt.
@@ -195,7 +195,7 @@ bool EkfSlam::stationaryBiasUpdate(const Odometry& odo, double dt_s, double var_
 
 void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
   // A stated sigma is a floor, not the truth (GOATS states 0.75 m for ranges good to ~2 m).
-  const double sigma_m = std::max(range.sigma_m, config_.range_sigma_m);
+  const double sigma_m = std::max(range.sigma_m, config_.range_sigma_m) * std::sqrt(range_noise_scale_);
   if (filter_.hasBeacon(range.beacon_id)) {
     double nis = 0.0;
     const EkfFilter::Update result =
@@ -206,6 +206,8 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
     if (result == EkfFilter::Update::kApplied) {
       map_dirty_ = true;
       gated_in_row_ = 0;
+      motion_noise_scale_ = std::max(1.0, motion_noise_scale_ * config_.motion_noise_decay);
+      adaptRangeNoise(nis);
       if (live) acceptRange();
     } else if (result == EkfFilter::Update::kGated) {
       noteGated(std::abs(range.range_m - filter_.predictRange(range.beacon_id, nullptr)));
@@ -245,6 +247,17 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
   if (live) acceptRange();
 }
 
+void EkfSlam::adaptRangeNoise(double nis) {
+  // Applied ranges' NIS averages 1 when the noise is right (a little less: the gate truncates).
+  // A stated sigma that is too small shows as a higher average: the range variance is scaled
+  // up (x 1.1 per range while the average over ~20 ranges is above 2), and back down (to the
+  // stated or configured sigma) while it is below 1, within [1, range_noise_max_scale].
+  if (config_.range_noise_max_scale <= 1.0) return;
+  nis_average_ += 0.05 * (nis - nis_average_);
+  if (nis_average_ > 2.0) range_noise_scale_ = std::min(config_.range_noise_max_scale, 1.1 * range_noise_scale_);
+  if (nis_average_ < 1.0) range_noise_scale_ = std::max(1.0, range_noise_scale_ / 1.1);
+}
+
 void EkfSlam::noteGated(double innovation_m) {
   // Starvation: a filter that gates every range is lost, and its gate would never re-open.
   // After recover_after_gated in a row, widen the position variance by the smallest squared
@@ -253,6 +266,9 @@ void EkfSlam::noteGated(double innovation_m) {
   min_gated_innovation_m_ = gated_in_row_ == 0 ? innovation_m : std::min(min_gated_innovation_m_, innovation_m);
   if (++gated_in_row_ < config_.recover_after_gated) return;
   filter_.inflatePose(min_gated_innovation_m_ * min_gated_innovation_m_, 0.0);
+  // The odometry is worse than configured: scale its noise up (decays by motion_noise_decay per
+  // applied range back towards the configured noise).
+  motion_noise_scale_ = std::min(config_.motion_noise_max_scale, 4.0 * motion_noise_scale_);
   gated_in_row_ = 0;
   ++recoveries_;
 }
@@ -413,6 +429,8 @@ void EkfSlam::publishDiagnostics() {
   setDiagnostic("calibration_reruns", static_cast<double>(calibration_reruns_));
   setDiagnostic("ranges_gated", static_cast<double>(gated_));
   setDiagnostic("starvation_recoveries", static_cast<double>(recoveries_));
+  setDiagnostic("motion_noise_scale", motion_noise_scale_);
+  setDiagnostic("range_noise_scale", range_noise_scale_);
   if (filter_.withCalibration()) {
     const Eigen::MatrixXd& P = filter_.covariance();
     const int c = filter_.calibrationIndex();

@@ -105,6 +105,7 @@ class EkfSlam : public Estimator {
   estimation::MotionNoise motionNoise(const Odometry& odometry) const;
   EkfFilter::CalibrationPrior calibrationPrior() const;
   void noteGated(double innovation_m);
+  void adaptRangeNoise(double nis);
 
   EkfConfig config_;
   MultilaterationConfig init_config_;
@@ -127,6 +128,9 @@ class EkfSlam : public Estimator {
   int gated_in_row_ = 0;              // ranges to known beacons gated since the last applied one
   double min_gated_innovation_m_ = 0.0;
   int64_t recoveries_ = 0;
+  double motion_noise_scale_ = 1.0;
+  double range_noise_scale_ = 1.0;  // multiplies the range variance (adaptRangeNoise)
+  double nis_average_ = 1.0;        // running average of applied ranges' NIS  // multiplies the odometry covariance (starvation raises it)
   bool calib_rerun_pending_ = false;  // history kept from the start for one calibrated re-run
   int64_t calibration_reruns_ = 0;
   int64_t stationary_updates_ = 0;
