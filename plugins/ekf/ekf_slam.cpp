@@ -428,6 +428,10 @@ void EkfSlam::publishDiagnostics() {
   setDiagnostic("stationary_bias_updates", static_cast<double>(stationary_updates_));
   setDiagnostic("calibration_reruns", static_cast<double>(calibration_reruns_));
   setDiagnostic("ranges_gated", static_cast<double>(gated_));
+  // Above a few percent the filter is fighting its noise model: see gate_probability,
+  // range_sigma_m and the odometry sigmas (the rejection reason names the gate).
+  const int64_t ranges_seen = rangesAccepted() + rangesRejected();
+  setDiagnostic("ranges_gated_fraction", ranges_seen > 0 ? static_cast<double>(gated_) / static_cast<double>(ranges_seen) : 0.0);
   setDiagnostic("starvation_recoveries", static_cast<double>(recoveries_));
   setDiagnostic("motion_noise_scale", motion_noise_scale_);
   setDiagnostic("range_noise_scale", range_noise_scale_);

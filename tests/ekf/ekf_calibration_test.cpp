@@ -129,6 +129,8 @@ TEST(EkfCalibration, GyroDriftFigure8StartPose) {
 TEST(EkfCalibration, AuvSparseOutliersBeaconsBeatDeadReckoningAndRepeat) {
   // The brief's AUV-like run (seed 203): 3 s steps of 4.5 m, ranges of hundreds of metres,
   // 45 % outliers (-150..+100 m), true sigma 2 m stated as 0.75 m, odometry 15 % noisy and 3 % short.
+  // Measured 11.5 m against dead reckoning's 16.6 m. A regression guard on this seed only: seeds
+  // 204-206 of the same run still diverge (75, 21, 143 m against 18, 8, 17 m), see the README.
   sim::SimConfig c;
   c.seed = 203;
   c.num_steps = 500;
