@@ -16,6 +16,16 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("odo_heading_sigma_rel", &c->odo_heading_sigma_rel, "heading sigma per radian turned").min(0.0);
   o.add("odo_heading_sigma_per_sqrt_m", &c->odo_heading_sigma_per_sqrt_m, "heading random walk per sqrt(metre)").min(0.0);
   o.add("odo_heading_sigma_rad", &c->odo_heading_sigma_rad, "heading sigma floor per step").min(0.0);
+  o.add("estimate_odometry_calibration", &c->estimate_odometry_calibration, "estimate odometry distance scale and heading-rate bias as states");
+  o.add("odo_scale_sigma", &c->odo_scale_sigma, "prior sigma of the odometry distance scale (mean 1)").min(0.0, false);
+  o.add("gyro_bias_sigma_rad_s", &c->gyro_bias_sigma_rad_s, "prior sigma of the heading-rate bias (rad/s)").min(0.0, false);
+  o.add("gyro_bias_walk_rad_s_per_sqrt_s", &c->gyro_bias_walk_rad_s_per_sqrt_s, "random walk of the heading-rate bias").min(0.0);
+  o.add("stationary_speed_mps", &c->stationary_speed_mps, "below this speed a reported turn is the heading-rate bias (0: never)").min(0.0);
+  o.add("calib_rerun_fraction", &c->calib_rerun_fraction, "start_pose: re-filter from the start once the bias sigma is this fraction of its prior (0: never)").min(0.0).max(1.0);
+  o.add("recover_after_gated", &c->recover_after_gated, "ranges gated in a row before the position variance is widened (0: never)").min(0);
+  o.add("motion_noise_max_scale", &c->motion_noise_max_scale, "largest factor on the odometry covariance after starvation").min(1.0);
+  o.add("motion_noise_decay", &c->motion_noise_decay, "factor per applied range taking the odometry covariance back to configured").min(0.0, false).max(1.0);
+  o.add("range_noise_max_scale", &c->range_noise_max_scale, "largest factor on the range variance when the NIS says the sigma is too small (1: off)").min(1.0);
   o.add("range_sigma_m", &c->range_sigma_m, "range noise sigma when a range carries none").min(0.0, false);
   o.add("bearing_sigma_rad", &c->bearing_sigma_rad, "bearing noise sigma").min(0.0, false);
   o.add("range_bias", &c->range_bias, "none | shared (estimated range scale and offset)").oneOf({"none", "shared"});
@@ -46,6 +56,13 @@ void validate(const EkfConfig& c) {
       !(c.odo_heading_sigma_rel >= 0.0) || !(c.odo_heading_sigma_per_sqrt_m >= 0.0) ||
       !(c.odo_heading_sigma_rad >= 0.0))
     fail("odometry sigmas >= 0");
+  if (!(c.odo_scale_sigma > 0.0) || !(c.gyro_bias_sigma_rad_s > 0.0)) fail("odo_scale_sigma, gyro_bias_sigma_rad_s > 0");
+  if (!(c.gyro_bias_walk_rad_s_per_sqrt_s >= 0.0)) fail("gyro_bias_walk_rad_s_per_sqrt_s >= 0");
+  if (!(c.calib_rerun_fraction >= 0.0 && c.calib_rerun_fraction <= 1.0)) fail("calib_rerun_fraction in [0, 1]");
+  if (!(c.stationary_speed_mps >= 0.0)) fail("stationary_speed_mps >= 0");
+  if (!(c.motion_noise_max_scale >= 1.0)) fail("motion_noise_max_scale >= 1");
+  if (!(c.motion_noise_decay > 0.0 && c.motion_noise_decay <= 1.0)) fail("motion_noise_decay in (0, 1]");
+  if (c.recover_after_gated < 0) fail("recover_after_gated >= 0");
   if (!(c.gate_probability > 0.0 && c.gate_probability <= 1.0)) fail("gate_probability in (0, 1]");
   if (c.init_min_ranges < 3) fail("init_min_ranges >= 3");
   if (c.init_max_ranges < c.init_min_ranges) fail("init_max_ranges >= init_min_ranges");

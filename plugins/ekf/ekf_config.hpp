@@ -23,7 +23,21 @@ struct EkfConfig {
   double odo_heading_sigma_per_sqrt_m = 0.01;
   double odo_heading_sigma_rad = 0.001;
 
-  double range_sigma_m = 0.5;              // used when a range carries no sigma
+  // Odometry calibration as filter states (estimation::OdometryCalibration): distance scale s
+  // (prior 1 +- odo_scale_sigma) and heading-rate bias b (prior 0 +- gyro_bias_sigma_rad_s,
+  // random walk gyro_bias_walk_rad_s_per_sqrt_s).
+  bool estimate_odometry_calibration = true;
+  double odo_scale_sigma = 0.05;
+  double gyro_bias_sigma_rad_s = 0.01;
+  double gyro_bias_walk_rad_s_per_sqrt_s = 1e-5;
+  // Zero-rate update below this speed (the robot stands still: its reported turn is the bias).
+  double stationary_speed_mps = 0.02;
+  // anchor = start_pose: re-filter the run once from the start when the bias sigma falls to
+  // this fraction of its prior (0: never).
+  double calib_rerun_fraction = 0.1;
+
+  // Range noise: max(the message's sigma, range_sigma_m) (a stated sigma is a floor, not truth).
+  double range_sigma_m = 0.5;
   double bearing_sigma_rad = 0.05;         // used for range-bearing measurements
   // "none" | "shared": one range scale and offset for all beacons, estimated.
   std::string range_bias = "shared";
@@ -31,6 +45,15 @@ struct EkfConfig {
   double range_offset_sigma_m = 0.5;       // prior on the offset (mean 0)
 
   double gate_probability = 0.999;         // Mahalanobis gate; 1 disables gating
+  // Starvation: after this many ranges to known beacons gated in a row, the filter is taken as
+  // lost and its position variance is widened by the smallest of their squared innovations.
+  int recover_after_gated = 8;
+  // Each recovery also multiplies the odometry covariance by 4 (up to motion_noise_max_scale);
+  // each applied range multiplies it by motion_noise_decay (down to 1).
+  double motion_noise_max_scale = 400.0;
+  double motion_noise_decay = 0.95;
+  // Largest factor on the range variance when applied ranges' NIS averages above 2 (1: off).
+  double range_noise_max_scale = 16.0;
   // Delayed initialisation (anchor = start_pose, or beacons not in BEACONS).
   int init_min_ranges = 6;
   double init_min_baseline_m = 3.0;

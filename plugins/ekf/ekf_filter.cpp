@@ -3,14 +3,18 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "roam/estimation/motion_model.hpp"
 #include "roam/types.hpp"
 
 namespace roam {
 
 void EkfFilter::reset(const Eigen::Vector3d& world_T_robot, const Eigen::Matrix3d& pose_cov,
-                      bool with_bias, double scale_sigma, double offset_sigma_m) {
+                      bool with_bias, double scale_sigma, double offset_sigma_m,
+                      const CalibrationPrior& calibration) {
   with_bias_ = with_bias;
-  const int n = with_bias ? 5 : 3;
+  const int n_bias = with_bias ? 5 : 3;
+  calib_index_ = calibration.estimated ? n_bias : -1;
+  const int n = n_bias + (calibration.estimated ? 2 : 0);
   x_ = Eigen::VectorXd::Zero(n);
   P_ = Eigen::MatrixXd::Zero(n, n);
   x_.head<3>() = world_T_robot;
@@ -22,31 +26,54 @@ void EkfFilter::reset(const Eigen::Vector3d& world_T_robot, const Eigen::Matrix3
     P_(kScale, kScale) = scale_sigma * scale_sigma;
     P_(kOffset, kOffset) = offset_sigma_m * offset_sigma_m;
   }
+  if (calibration.estimated) {
+    x_(calib_index_) = 1.0;
+    x_(calib_index_ + 1) = 0.0;
+    P_(calib_index_, calib_index_) = std::pow(calibration.distance_scale_sigma, 2);
+    P_(calib_index_ + 1, calib_index_ + 1) = std::pow(calibration.heading_rate_bias_sigma_rad_s, 2);
+  }
   index_.clear();
+}
+
+void EkfFilter::predict(const Odometry& odometry, double dt_s, const Eigen::Matrix3d& Q,
+                        double bias_walk_var) {
+  estimation::OdometryCalibration calib;
+  calib.distance_scale = odometryScale();
+  calib.heading_rate_bias_rad_s = headingRateBias();
+  const Eigen::Vector3d pose = x_.head<3>();
+  const estimation::StepJacobians J = estimation::stepJacobians(pose, odometry, dt_s, calib);
+  const Eigen::Vector3d next =
+      estimation::step(pose, estimation::calibratedIncrement(odometry, dt_s, calib));
+  x_.head<3>() = next;
+  x_(kHeading) = wrapAngle(x_(kHeading));
+
+  // T = A P, A = [wrt_pose at the pose columns, wrt_calibration at the calibration columns].
+  Eigen::MatrixXd T = J.wrt_pose * P_.topRows(3);
+  if (withCalibration()) T += J.wrt_calibration * P_.middleRows(calib_index_, 2);
+  Eigen::Matrix3d P_pp = T.leftCols(3) * J.wrt_pose.transpose();
+  if (withCalibration()) P_pp += T.middleCols(calib_index_, 2) * J.wrt_calibration.transpose();
+  const Eigen::Vector3d d(calib.distance_scale, calib.distance_scale, 1.0);
+  const Eigen::Matrix3d Q_c = d.asDiagonal() * Q * d.asDiagonal();
+  P_pp += J.wrt_increment * Q_c * J.wrt_increment.transpose();
+  T.leftCols(3) = 0.5 * (P_pp + P_pp.transpose());
+  P_.topRows(3) = T;
+  P_.leftCols(3) = T.transpose();
+  if (withCalibration()) P_(calib_index_ + 1, calib_index_ + 1) += bias_walk_var;
 }
 
 void EkfFilter::predict(double distance_m, double dheading_rad, double var_distance_m2,
                         double var_dheading_rad2) {
-  const double c = std::cos(x_(kHeading)), s = std::sin(x_(kHeading));
-  x_(kX) += distance_m * c;
-  x_(kY) += distance_m * s;
-  x_(kHeading) = wrapAngle(x_(kHeading) + dheading_rad);
+  Odometry odometry;
+  odometry.forward_m = distance_m;
+  odometry.delta_heading_rad = dheading_rad;
+  const Eigen::Matrix3d Q = Eigen::Vector3d(var_distance_m2, 0.0, var_dheading_rad2).asDiagonal();
+  predict(odometry, 0.0, Q);
+}
 
-  Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
-  F(kX, kHeading) = -distance_m * s;
-  F(kY, kHeading) = distance_m * c;
-  Eigen::Matrix<double, 3, 2> G;
-  G << c, 0.0, s, 0.0, 0.0, 1.0;
-  const Eigen::Vector2d q(var_distance_m2, var_dheading_rad2);
-
-  const int n = size();
-  const Eigen::Matrix3d P_pp = P_.topLeftCorner<3, 3>();
-  P_.topLeftCorner<3, 3>() = F * P_pp * F.transpose() + G * q.asDiagonal() * G.transpose();
-  if (n > 3) {
-    const Eigen::MatrixXd P_pr = F * P_.topRightCorner(3, n - 3);
-    P_.topRightCorner(3, n - 3) = P_pr;
-    P_.bottomLeftCorner(n - 3, 3) = P_pr.transpose();
-  }
+void EkfFilter::inflatePose(double var_m2, double var_rad2) {
+  P_(kX, kX) += var_m2;
+  P_(kY, kY) += var_m2;
+  P_(kHeading, kHeading) += var_rad2;
 }
 
 void EkfFilter::addBeacon(int id, const Eigen::Vector2d& world_m, const Eigen::Matrix2d& cov_m2) {
@@ -134,6 +161,18 @@ EkfFilter::Update EkfFilter::updateRangeBearing(int beacon_id, double range_m, d
   R(0, 0) = sigma_m * sigma_m;
   R(1, 1) = sigma_bearing_rad * sigma_bearing_rad;
   return applyUpdate(H, innovation, R, gate_chi2, nis);
+}
+
+EkfFilter::Update EkfFilter::updateHeadingRateBias(double turn_rad, double dt_s, double var_turn_rad2,
+                                                   double gate_chi2) {
+  if (!withCalibration()) return Update::kDegenerate;
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(1, size());
+  H(0, calib_index_ + 1) = dt_s;
+  Eigen::VectorXd innovation(1);
+  innovation(0) = turn_rad - dt_s * x_(calib_index_ + 1);
+  Eigen::MatrixXd R(1, 1);
+  R(0, 0) = var_turn_rad2;
+  return applyUpdate(H, innovation, R, gate_chi2, nullptr);
 }
 
 EkfFilter::Update EkfFilter::applyUpdate(const Eigen::MatrixXd& H,

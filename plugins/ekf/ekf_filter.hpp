@@ -1,12 +1,14 @@
-// The EKF proper: a Gaussian over [x, y, theta, (scale, offset), m1x, m1y, m2x, m2y, ...].
+// The EKF proper: a Gaussian over
+//   [x, y, theta, (range scale, range offset), (odometry distance scale s, heading-rate bias b),
+//    m1x, m1y, m2x, m2y, ...].
 //
 // Model (world frame, metres, radians CCW):
-//   motion, "move then turn" (the convention of roam::sim and dead reckoning):
-//     x' = x + d cos(theta),  y' = y + d sin(theta),  theta' = theta + dtheta,
-//     with (d, dtheta) the odometry plus zero-mean noise of covariance diag(var_d, var_dtheta);
-//     linearised: F = d(x', y', theta')/d(x, y, theta) = [1 0 -d sin; 0 1 d cos; 0 0 1],
-//     G = d(x', y', theta')/d(d, dtheta) = [cos 0; sin 0; 0 1]; only the pose rows change, so
-//     P_pp <- F P_pp F' + G Q G' and P_p* <- F P_p* (O(n) per step).
+//   motion: roam::estimation's SE(2) step (motion_model.hpp): the increment (u, v, w) reported
+//     in the robot frame, calibrated to (s u, s v, w - b dt), composed onto the pose; with
+//     noise Q on (u, v, w) (so diag(s, s, 1) Q diag(s, s, 1) on the calibrated increment).
+//     Linearised with the shared Jacobians: pose rows x' = f(pose, s, b), so with A the 3 x n
+//     Jacobian of f over the whole state (pose and calibration columns), P_p* <- A P and
+//     P_pp <- A P A' + G Q_c G' (O(n) per step); b also walks: var_b += walk^2 dt.
 //   range to beacon m: range_m = scale * |m - p| + offset + noise(sigma_m)
 //     (scale = 1, offset = 0 when the bias states are off);
 //   bearing (robot-relative): bearing_rad = atan2(my - y, mx - x) - theta + noise.
@@ -18,18 +20,35 @@
 
 #include <Eigen/Dense>
 
+#include "roam/types.hpp"
+
 namespace roam {
+
+// Prior of the odometry calibration states (off: s = 1, b = 0 exactly, no states).
+struct EkfCalibrationPrior {
+  bool estimated = false;
+  double distance_scale_sigma = 0.05;
+  double heading_rate_bias_sigma_rad_s = 0.01;
+};
 
 class EkfFilter {
  public:
   static constexpr int kX = 0, kY = 1, kHeading = 2, kScale = 3, kOffset = 4;
 
-  // The pose (x, y, heading) with its covariance; with_bias adds scale and offset states.
-  void reset(const Eigen::Vector3d& world_T_robot, const Eigen::Matrix3d& pose_cov,
-             bool with_bias, double scale_sigma, double offset_sigma_m);
+  using CalibrationPrior = EkfCalibrationPrior;
 
-  // One motion step (distance d along the current heading, then turn dtheta) with
-  // var_d, var_dtheta the variances of the odometry noise.
+  // The pose (x, y, heading) with its covariance; with_bias adds scale and offset states,
+  // calibration.estimated the odometry distance scale and heading-rate bias.
+  void reset(const Eigen::Vector3d& world_T_robot, const Eigen::Matrix3d& pose_cov,
+             bool with_bias, double scale_sigma, double offset_sigma_m,
+             const CalibrationPrior& calibration = {});
+
+  // One motion step through roam::estimation: the increment of odometry (forward, lateral,
+  // heading change) over dt_s seconds, Q its 3 x 3 noise covariance, bias_walk_var the
+  // heading-rate bias's random-walk variance over the step ((rad/s)^2).
+  void predict(const Odometry& odometry, double dt_s, const Eigen::Matrix3d& Q,
+               double bias_walk_var = 0.0);
+  // Move-then-turn shorthand: forward d, turn dtheta, variances diag(var_d, 0, var_dtheta).
   void predict(double distance_m, double dheading_rad, double var_distance_m2,
                double var_dheading_rad2);
 
@@ -50,6 +69,9 @@ class EkfFilter {
   Update updateRangeBearing(int beacon_id, double range_m, double sigma_m, double bearing_rad,
                             double sigma_bearing_rad, double gate_chi2, double* nis);
 
+  // Zero-rate update: a stationary robot's reported turn is the bias, turn_rad = b dt + noise.
+  Update updateHeadingRateBias(double turn_rad, double dt_s, double var_turn_rad2, double gate_chi2);
+
   // Predicted range (scale * |m - p| + offset) and its Jacobian row (1 x n).
   double predictRange(int beacon_id, Eigen::RowVectorXd* jacobian) const;
   // Predicted robot-relative bearing and its Jacobian row (1 x n).
@@ -62,6 +84,18 @@ class EkfFilter {
     x_(kScale) = scale;
     x_(kOffset) = offset_m;
   }
+  bool withCalibration() const { return calib_index_ >= 0; }
+  int calibrationIndex() const { return calib_index_; }  // s at this index, b at the next
+  double odometryScale() const { return withCalibration() ? x_(calib_index_) : 1.0; }
+  double headingRateBias() const { return withCalibration() ? x_(calib_index_ + 1) : 0.0; }
+  // Moves the calibration means (covariance unchanged).
+  void recentreCalibration(double distance_scale, double heading_rate_bias_rad_s) {
+    if (!withCalibration()) return;
+    x_(calib_index_) = distance_scale;
+    x_(calib_index_ + 1) = heading_rate_bias_rad_s;
+  }
+  // Adds var to the pose block's diagonal (x, y, heading): re-opens a starved filter.
+  void inflatePose(double var_m2, double var_rad2);
   double scale() const { return with_bias_ ? x_(kScale) : 1.0; }
   double offset() const { return with_bias_ ? x_(kOffset) : 0.0; }
   const Eigen::VectorXd& mean() const { return x_; }
@@ -73,6 +107,7 @@ class EkfFilter {
                      const Eigen::MatrixXd& R, double gate_chi2, double* nis);
 
   bool with_bias_ = false;
+  int calib_index_ = -1;
   Eigen::VectorXd x_;
   Eigen::MatrixXd P_;
   std::map<int, int> index_;  // beacon id -> index of its x in the state

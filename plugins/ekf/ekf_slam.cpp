@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "roam/estimation/motion_model.hpp"
+
 namespace roam {
 
 EkfSlam::EkfSlam(const EkfConfig& config) : config_(config) {
@@ -24,13 +26,27 @@ void EkfSlam::start(const Pose& pose) {
   }
   filter_.reset(Eigen::Vector3d(pose.x_m, pose.y_m, pose.heading_rad), pose_cov,
                 config_.range_bias == "shared", config_.range_scale_sigma,
-                config_.range_offset_sigma_m);
+                config_.range_offset_sigma_m, calibrationPrior());
   started_ = true;
+  calib_rerun_pending_ = config_.estimate_odometry_calibration && config_.anchor == "start_pose" &&
+                         config_.calib_rerun_fraction > 0.0;
   state_utime_ = pose.utime;
   insertSurveyed();
   path_.push_back(currentPose(pose.utime));
   setState(EstimatorState::kTracking);
   publishDiagnostics();
+}
+
+EkfFilter::CalibrationPrior EkfSlam::calibrationPrior() const {
+  EkfFilter::CalibrationPrior prior;
+  prior.estimated = config_.estimate_odometry_calibration;
+  // Gauge: from the start pose alone, scaling the world by k (odometry scale x k, range scale
+  // / k) explains the same data, so with an estimated range scale the odometry scale is held at
+  // 1 (variance 0) and the range scale carries the ratio; beacons (or range_bias = none) fix it.
+  const bool scale_observable = config_.anchor == "beacons" || config_.range_bias == "none";
+  prior.distance_scale_sigma = scale_observable ? config_.odo_scale_sigma : 0.0;
+  prior.heading_rate_bias_sigma_rad_s = config_.gyro_bias_sigma_rad_s;
+  return prior;
 }
 
 void EkfSlam::setInitialPose(const Pose& start_pose) {
@@ -81,6 +97,7 @@ void EkfSlam::addOdometry(const Odometry& odometry) {
   acceptOdometry();
   history_.push_back(std::move(step));
   initialiseReadyBeacons();
+  rerunWithCalibration();
   prune();
 
   emitPose(path_.back());
@@ -99,32 +116,86 @@ void EkfSlam::runStep(const Step& step, bool live) {
     filter_.addBeacon(insert.id, insert.world_m, insert.cov_m2);
     map_dirty_ = true;
   }
-  const double d_m = step.odometry.forward_m;
-  const double dtheta_rad = step.odometry.delta_heading_rad;
-  const double var_d = std::pow(config_.odo_distance_sigma_rel * d_m, 2) +
-                       std::pow(config_.odo_distance_sigma_m, 2);
-  const double var_dtheta = std::pow(config_.odo_heading_sigma_rel * dtheta_rad, 2) +
-                            std::pow(config_.odo_heading_sigma_per_sqrt_m, 2) * d_m +
-                            std::pow(config_.odo_heading_sigma_rad, 2);
-  const int64_t t0 = state_utime_, t1 = step.odometry.utime;
+  const Odometry& odo = step.odometry;
+  const int64_t t0 = state_utime_, t1 = odo.utime;
+  const double dt_s = std::max<int64_t>(0, t1 - t0) * 1e-6;
+  const Eigen::Matrix3d Q = motion_noise_scale_ * estimation::incrementCovariance(odo, dt_s, motionNoise(odo));
+  const double bias_walk_var = std::pow(config_.gyro_bias_walk_rad_s_per_sqrt_s, 2) * dt_s;
+  // The step is straight with the turn at its end: a range at fraction a of the step's time is
+  // applied after a straight part a (u, v) (no turn, no bias: dt 0), its translation noise a Q_tt.
   double done = 0.0;  // fraction of the step already predicted
   for (const Range& range : step.ranges) {
     double fraction = t1 > t0 ? static_cast<double>(range.utime - t0) / static_cast<double>(t1 - t0) : 0.0;
     fraction = std::clamp(fraction, 0.0, 1.0);
     if (fraction > done) {
-      // Straight part of the step: heading unchanged until the step's end.
-      filter_.predict((fraction - done) * d_m, 0.0, (fraction - done) * var_d, 0.0);
+      Odometry part;
+      part.forward_m = (fraction - done) * odo.forward_m;
+      part.lateral_m = (fraction - done) * odo.lateral_m;
+      Eigen::Matrix3d Q_part = Eigen::Matrix3d::Zero();
+      Q_part.topLeftCorner<2, 2>() = (fraction - done) * Q.topLeftCorner<2, 2>();
+      filter_.predict(part, 0.0, Q_part);
       done = fraction;
     }
     handleRange(range, step.index, live);
   }
-  filter_.predict((1.0 - done) * d_m, dtheta_rad, (1.0 - done) * var_d, var_dtheta);
+  // The rest: translation (1 - a) (u, v), the whole turn and the bias over the whole step.
+  Odometry rest = odo;
+  if (stationaryBiasUpdate(odo, dt_s, Q(2, 2))) {
+    // Stationary and the turn explained by the bias: the robot did not turn (b is updated).
+    rest.delta_heading_rad = 0.0;
+    filter_.predict(Odometry{}, 0.0, Eigen::Vector3d(0.0, 0.0, Q(2, 2)).asDiagonal(), bias_walk_var);
+  }
+  rest.forward_m = (1.0 - done) * odo.forward_m;
+  rest.lateral_m = (1.0 - done) * odo.lateral_m;
+  Eigen::Matrix3d Q_rest = Q;
+  Q_rest.topLeftCorner<2, 2>() *= 1.0 - done;
+  Q_rest.topRightCorner<2, 1>() *= 1.0 - done;
+  Q_rest.bottomLeftCorner<1, 2>() *= 1.0 - done;
+  if (rest.delta_heading_rad == odo.delta_heading_rad) {
+    filter_.predict(rest, dt_s, Q_rest, bias_walk_var);
+  } else {
+    Q_rest.row(2).setZero();
+    Q_rest.col(2).setZero();
+    filter_.predict(rest, 0.0, Q_rest);
+  }
   state_utime_ = t1;
   path_.push_back(currentPose(t1));
 }
 
+estimation::MotionNoise EkfSlam::motionNoise(const Odometry& odo) const {
+  // The configured noise of this step as the floor of estimation::incrementCovariance:
+  // sigma_d (forward and lateral) and sigma_theta from the keys (variances add), used as the
+  // per-step minimum; a reported covariance is used where it is larger.
+  const double d_m = std::hypot(odo.forward_m, odo.lateral_m);
+  estimation::MotionNoise noise;
+  noise.distance_fraction = 0.0;
+  noise.heading_rad_per_m = 0.0;
+  noise.heading_rad_per_sqrt_s = 0.0;
+  noise.min_sigma_m = std::sqrt(std::pow(config_.odo_distance_sigma_rel * d_m, 2) +
+                                std::pow(config_.odo_distance_sigma_m, 2));
+  noise.min_sigma_rad = std::sqrt(std::pow(config_.odo_heading_sigma_rel * odo.delta_heading_rad, 2) +
+                                  std::pow(config_.odo_heading_sigma_per_sqrt_m, 2) * d_m +
+                                  std::pow(config_.odo_heading_sigma_rad, 2));
+  noise.use_reported_covariance = true;
+  return noise;
+}
+
+bool EkfSlam::stationaryBiasUpdate(const Odometry& odo, double dt_s, double var_turn_rad2) {
+  // Zero-rate update (as an INS does at standstill): a robot whose odometry reports no
+  // translation (below stationary_speed_mps) has not turned either, so its reported turn w is
+  // the bias: w = b dt + noise(var_turn). Gated like a range, so a turn on the spot (0.1 rad in a
+  // 0.2 s step is ~40 sigma) is taken as a turn, not a bias.
+  if (!filter_.withCalibration() || config_.stationary_speed_mps <= 0.0 || !(dt_s > 0.0)) return false;
+  if (std::hypot(odo.forward_m, odo.lateral_m) > config_.stationary_speed_mps * dt_s) return false;
+  const bool applied = filter_.updateHeadingRateBias(odo.delta_heading_rad, dt_s, var_turn_rad2, gate_range_chi2_) ==
+                       EkfFilter::Update::kApplied;
+  if (applied) ++stationary_updates_;
+  return applied;
+}
+
 void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
-  const double sigma_m = range.sigma_m > 0.0 ? range.sigma_m : config_.range_sigma_m;
+  // A stated sigma is a floor, not the truth (GOATS states 0.75 m for ranges good to ~2 m).
+  const double sigma_m = std::max(range.sigma_m, config_.range_sigma_m) * std::sqrt(range_noise_scale_);
   if (filter_.hasBeacon(range.beacon_id)) {
     double nis = 0.0;
     const EkfFilter::Update result =
@@ -134,10 +205,16 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
             : filter_.updateRange(range.beacon_id, range.range_m, sigma_m, gate_range_chi2_, &nis);
     if (result == EkfFilter::Update::kApplied) {
       map_dirty_ = true;
+      gated_in_row_ = 0;
+      motion_noise_scale_ = std::max(1.0, motion_noise_scale_ * config_.motion_noise_decay);
+      adaptRangeNoise(nis);
       if (live) acceptRange();
-    } else if (live && result == EkfFilter::Update::kGated) {
-      ++gated_;
-      rejectRange("gated: Mahalanobis distance beyond gate_probability");
+    } else if (result == EkfFilter::Update::kGated) {
+      noteGated(std::abs(range.range_m - filter_.predictRange(range.beacon_id, nullptr)));
+      if (live) {
+        ++gated_;
+        rejectRange("gated: Mahalanobis distance beyond gate_probability");
+      }
     } else if (live) {
       rejectRange("degenerate: beacon at the robot's position");
     }
@@ -151,7 +228,16 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
   sighting.utime = range.utime;
   sighting.x_m = x(EkfFilter::kX);
   sighting.y_m = x(EkfFilter::kY);
-  sighting.position_var_m2 = 0.5 * (P(0, 0) + P(1, 1));
+  // The position's variance given the odometry calibration: what the calibration adds is common
+  // to every sighting (a rotation and scaling of the path about the start), not independent noise
+  // per range, and it is carried by the filter's correlations once the beacon is in the state.
+  Eigen::Matrix2d P_xy = P.topLeftCorner<2, 2>();
+  if (filter_.withCalibration()) {
+    const int c = filter_.calibrationIndex();
+    const Eigen::Matrix<double, 2, 2> P_xc = P.block<2, 2>(0, c);
+    P_xy -= P_xc * P.block<2, 2>(c, c).ldlt().solve(P_xc.transpose());
+  }
+  sighting.position_var_m2 = std::max(0.0, 0.5 * P_xy.trace());
   sighting.range_m = range.range_m;
   sighting.sigma_m = sigma_m;
   auto& buffer = pending_[range.beacon_id];
@@ -159,6 +245,32 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
   if (static_cast<int>(buffer.size()) > config_.init_max_ranges) buffer.erase(buffer.begin());
   touched_.insert(range.beacon_id);
   if (live) acceptRange();
+}
+
+void EkfSlam::adaptRangeNoise(double nis) {
+  // Applied ranges' NIS averages 1 when the noise is right (a little less: the gate truncates).
+  // A stated sigma that is too small shows as a higher average: the range variance is scaled
+  // up (x 1.1 per range while the average over ~20 ranges is above 2), and back down (to the
+  // stated or configured sigma) while it is below 1, within [1, range_noise_max_scale].
+  if (config_.range_noise_max_scale <= 1.0) return;
+  nis_average_ += 0.05 * (nis - nis_average_);
+  if (nis_average_ > 2.0) range_noise_scale_ = std::min(config_.range_noise_max_scale, 1.1 * range_noise_scale_);
+  if (nis_average_ < 1.0) range_noise_scale_ = std::max(1.0, range_noise_scale_ / 1.1);
+}
+
+void EkfSlam::noteGated(double innovation_m) {
+  // Starvation: a filter that gates every range is lost, and its gate would never re-open.
+  // After recover_after_gated in a row, widen the position variance by the smallest squared
+  // innovation among them, so the closest of those ranges would pass (NIS < 1) next time.
+  if (config_.recover_after_gated == 0) return;
+  min_gated_innovation_m_ = gated_in_row_ == 0 ? innovation_m : std::min(min_gated_innovation_m_, innovation_m);
+  if (++gated_in_row_ < config_.recover_after_gated) return;
+  filter_.inflatePose(min_gated_innovation_m_ * min_gated_innovation_m_, 0.0);
+  // The odometry is worse than configured: scale its noise up (decays by motion_noise_decay per
+  // applied range back towards the configured noise).
+  motion_noise_scale_ = std::min(config_.motion_noise_max_scale, 4.0 * motion_noise_scale_);
+  gated_in_row_ = 0;
+  ++recoveries_;
 }
 
 void EkfSlam::initialiseReadyBeacons() {
@@ -229,7 +341,32 @@ void EkfSlam::replayFrom(int64_t offset, int64_t first_step) {
   }
 }
 
+void EkfSlam::rerunWithCalibration() {
+  // anchor = start_pose: the map's orientation is set when the first beacons enter, while the
+  // heading-rate bias is still at its prior (the heading's sigma is then b_sigma * t), and the
+  // EKF cannot rotate it afterwards. So the history is kept from the start until the bias is
+  // known to calib_rerun_fraction of its prior sigma; then the whole run is re-filtered once
+  // from the start with the calibration means re-centred on the estimate (widths unchanged),
+  // linearising about the right heading. Given up (history freed) after init_window_s.
+  if (!calib_rerun_pending_) return;
+  const int c = filter_.calibrationIndex();
+  const double sigma_b = std::sqrt(filter_.covariance()(c + 1, c + 1));
+  if (filter_.beacons().empty() || !pending_.empty() || sigma_b > config_.calib_rerun_fraction * config_.gyro_bias_sigma_rad_s) return;
+  calib_rerun_pending_ = false;
+  if (history_.empty() || history_.front().index != 0) return;
+  history_.front().before.recentreCalibration(filter_.odometryScale(), filter_.headingRateBias());
+  history_.front().before.recentreBias(filter_.scale(), filter_.offset());  // as for the first beacon
+  replayFrom(0, 0);
+  ++calibration_reruns_;
+  map_dirty_ = true;
+}
+
 void EkfSlam::prune() {
+  if (calib_rerun_pending_) {
+    const int64_t oldest_utime = state_utime_ - static_cast<int64_t>(config_.init_window_s * 1e6);
+    if (history_.empty() || history_.front().index != 0 || history_.front().before_utime >= oldest_utime) return;
+    calib_rerun_pending_ = false;  // the bias was not learnt within the window: no re-run
+  }
   // Sightings older than init_window_s are dropped (bounding the history kept for re-runs).
   const int64_t oldest_utime = state_utime_ - static_cast<int64_t>(config_.init_window_s * 1e6);
   for (auto it = pending_.begin(); it != pending_.end();) {
@@ -288,7 +425,24 @@ void EkfSlam::publishDiagnostics() {
   setDiagnostic("beacons_initialised", static_cast<double>(filter_.beacons().size()));
   setDiagnostic("beacons_pending", static_cast<double>(pending_.size()));
   setDiagnostic("replays", static_cast<double>(replays_));
+  setDiagnostic("stationary_bias_updates", static_cast<double>(stationary_updates_));
+  setDiagnostic("calibration_reruns", static_cast<double>(calibration_reruns_));
   setDiagnostic("ranges_gated", static_cast<double>(gated_));
+  // Above a few percent the filter is fighting its noise model: see gate_probability,
+  // range_sigma_m and the odometry sigmas (the rejection reason names the gate).
+  const int64_t ranges_seen = rangesAccepted() + rangesRejected();
+  setDiagnostic("ranges_gated_fraction", ranges_seen > 0 ? static_cast<double>(gated_) / static_cast<double>(ranges_seen) : 0.0);
+  setDiagnostic("starvation_recoveries", static_cast<double>(recoveries_));
+  setDiagnostic("motion_noise_scale", motion_noise_scale_);
+  setDiagnostic("range_noise_scale", range_noise_scale_);
+  if (filter_.withCalibration()) {
+    const Eigen::MatrixXd& P = filter_.covariance();
+    const int c = filter_.calibrationIndex();
+    setDiagnostic("odometry_distance_scale", filter_.odometryScale());
+    setDiagnostic("odometry_distance_scale_sigma", std::sqrt(P(c, c)));
+    setDiagnostic("heading_rate_bias_rad_s", filter_.headingRateBias());
+    setDiagnostic("heading_rate_bias_sigma_rad_s", std::sqrt(P(c + 1, c + 1)));
+  }
 }
 
 void EkfSlam::finish() {

@@ -41,6 +41,7 @@
 #include "ekf_config.hpp"
 #include "ekf_filter.hpp"
 #include "multilateration.hpp"
+#include "roam/estimation/motion_model.hpp"
 #include "roam/estimator.hpp"
 
 namespace roam {
@@ -96,9 +97,15 @@ class EkfSlam : public Estimator {
   void initialiseReadyBeacons();
   void rollbackAndInsert(int id, const MultilaterationResult& solve);
   void replayFrom(int64_t offset, int64_t first_step);
+  void rerunWithCalibration();
+  bool stationaryBiasUpdate(const Odometry& odometry, double dt_s, double var_turn_rad2);
   void prune();
   Pose currentPose(int64_t utime) const;
   void publishDiagnostics();
+  estimation::MotionNoise motionNoise(const Odometry& odometry) const;
+  EkfFilter::CalibrationPrior calibrationPrior() const;
+  void noteGated(double innovation_m);
+  void adaptRangeNoise(double nis);
 
   EkfConfig config_;
   MultilaterationConfig init_config_;
@@ -118,6 +125,15 @@ class EkfSlam : public Estimator {
   std::vector<Initialisation> initialisations_;
   int64_t replays_ = 0;
   int64_t gated_ = 0;
+  int gated_in_row_ = 0;              // ranges to known beacons gated since the last applied one
+  double min_gated_innovation_m_ = 0.0;
+  int64_t recoveries_ = 0;
+  double motion_noise_scale_ = 1.0;
+  double range_noise_scale_ = 1.0;  // multiplies the range variance (adaptRangeNoise)
+  double nis_average_ = 1.0;        // running average of applied ranges' NIS  // multiplies the odometry covariance (starvation raises it)
+  bool calib_rerun_pending_ = false;  // history kept from the start for one calibrated re-run
+  int64_t calibration_reruns_ = 0;
+  int64_t stationary_updates_ = 0;
 };
 
 }  // namespace roam

@@ -1,0 +1,176 @@
+// Odometry calibration (distance scale, heading-rate bias) and the adaptive noise of the ekf:
+// the SE(2) step worked by hand, the zero-rate update at standstill, and seeded synthetic runs
+// like the held-out ones (gyro drift on a figure-8, an AUV-like sparse run with outliers).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "ekf_config.hpp"
+#include "ekf_filter.hpp"
+#include "ekf_slam.hpp"
+#include "feed.hpp"
+#include "roam/estimation/motion_model.hpp"
+#include "sim.hpp"
+
+namespace roam {
+namespace {
+
+constexpr double kExact = 1e-12;
+
+TEST(EkfCalibration, LateralStepWorkedByHand) {
+  // Heading pi/2: forward 2 is +y, lateral 1 is -x: (1, 2) -> (1 - 1, 2 + 2) = (0, 4).
+  EkfFilter filter;
+  filter.reset(Eigen::Vector3d(1.0, 2.0, M_PI / 2), Eigen::Matrix3d::Zero(), false, 0.1, 0.5);
+  Odometry odometry;
+  odometry.forward_m = 2.0;
+  odometry.lateral_m = 1.0;
+  odometry.delta_heading_rad = 0.25;
+  filter.predict(odometry, 1.0, Eigen::Matrix3d::Zero());
+  EXPECT_NEAR(filter.mean()(0), 0.0, kExact);
+  EXPECT_NEAR(filter.mean()(1), 4.0, kExact);
+  EXPECT_NEAR(filter.mean()(2), M_PI / 2 + 0.25, kExact);
+}
+
+TEST(EkfCalibration, CalibrationStatesScaleAndTurnTheStep) {
+  // s = 1.1, b = 0.05 rad/s over dt = 2 s: forward 2 -> 2.2 along heading 0; turn 0.3 - 0.1 = 0.2.
+  EkfFilter filter;
+  EkfCalibrationPrior prior;
+  prior.estimated = true;
+  filter.reset(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Zero(), true, 0.1, 0.5, prior);
+  filter.recentreCalibration(1.1, 0.05);
+  Odometry odometry;
+  odometry.forward_m = 2.0;
+  odometry.delta_heading_rad = 0.3;
+  filter.predict(odometry, 2.0, Eigen::Matrix3d::Zero());
+  EXPECT_NEAR(filter.mean()(0), 2.2, kExact);
+  EXPECT_NEAR(filter.mean()(1), 0.0, kExact);
+  EXPECT_NEAR(filter.mean()(2), 0.2, kExact);
+  // The heading's variance is the bias's times dt^2: 0.01^2 * 4; x's the scale's times 2^2.
+  EXPECT_NEAR(filter.covariance()(2, 2), 4.0 * 1e-4, kExact);
+  EXPECT_NEAR(filter.covariance()(0, 0), 4.0 * 0.05 * 0.05, kExact);
+}
+
+TEST(EkfCalibration, StandstillLearnsTheBiasAndDoesNotTurn) {
+  // 100 steps of 0.2 s standing still with a gyro reporting 0.01 rad/s: the heading stays at
+  // the start exactly (zero-rate update), and b -> 0.01 shrunk by its prior: each step observes
+  // w = b dt with sigma_w = odo_heading_sigma_rad = 0.001, i.e. b with sigma 0.001 / 0.2 = 0.005
+  // (information 4e4 each, 4e6 for 100), the prior 0 +- 0.01 (information 1e4):
+  // b = 0.01 * 4e6 / (4e6 + 1e4) = 0.0099751 (the bias walk, 2e-11 per step, is negligible).
+  EkfConfig config;
+  EkfSlam ekf(config);
+  Pose start;
+  start.utime = 0;
+  start.heading_rad = 0.3;
+  ekf.setInitialPose(start);
+  for (int k = 1; k <= 100; ++k) {
+    Odometry odometry;
+    odometry.utime = k * 200000;
+    odometry.delta_heading_rad = 0.01 * 0.2;
+    ekf.addOdometry(odometry);
+  }
+  ekf.finish();
+  EXPECT_NEAR(ekf.path().back().heading_rad, 0.3, kExact);
+  EXPECT_NEAR(ekf.filter().headingRateBias(), 0.01 * 4e6 / (4e6 + 1e4), 1e-8);
+  EXPECT_EQ(ekf.diagnostics().at("stationary_bias_updates"), 100.0);
+}
+
+double meanError(const Path& path, const Path& truth) {
+  double sum = 0.0;
+  for (size_t k = 0; k < path.size(); ++k) sum += std::hypot(path[k].x_m - truth[k].x_m, path[k].y_m - truth[k].y_m);
+  return sum / static_cast<double>(path.size());
+}
+
+double deadReckoningError(const sim::SimRun& run) {
+  Path path{run.start};
+  for (const Odometry& o : run.odometry) path.push_back(estimation::step(path.back(), o));
+  return meanError(path, run.ground_truth);
+}
+
+sim::SimConfig gyroDriftFigure8() {
+  // The brief's gyro-drift run (seed 201), 3000 steps of 0.2 s: 0.01 rad/s (0.57 deg/s) of bias.
+  sim::SimConfig c;
+  c.seed = 201;
+  c.num_steps = 3000;
+  c.dt_s = 0.2;
+  c.speed_mps = 1.0;
+  c.path = sim::PathKind::kFigureEight;
+  c.loop_radius_m = 12.0;
+  c.num_beacons = 6;
+  c.schedule = sim::RangeSchedule::kRoundRobin;
+  c.range_rate_hz = 2.0;
+  c.range_sigma_m = 0.3;
+  c.odo_distance_sigma_rel = 0.02;
+  c.odo_heading_sigma_rad = 0.003;
+  c.odo_heading_bias_radps = 0.01;
+  return c;
+}
+
+TEST(EkfCalibration, GyroDriftFigure8StartPose) {
+  // Measured: 0.34 m mean error with the bias recovered to 0.0097 rad/s (dead reckoning 22 m).
+  constexpr double kMaxMeanErrorM = 0.5;
+  constexpr double kBiasToleranceRadS = 5e-4;
+  const sim::SimRun run = sim::simulate(gyroDriftFigure8());
+  EkfSlam ekf(EkfConfig{});
+  test::feed(run, ekf);
+  const double error_m = meanError(ekf.path(), run.ground_truth);
+  std::printf("gyro drift, start pose: mean error %.3f m (dead reckoning %.2f m), b %.5f rad/s\n", error_m,
+              deadReckoningError(run), ekf.filter().headingRateBias());
+  EXPECT_LT(error_m, kMaxMeanErrorM);
+  EXPECT_NEAR(ekf.filter().headingRateBias(), 0.01, kBiasToleranceRadS);
+
+  EkfConfig off;
+  off.estimate_odometry_calibration = false;
+  EkfSlam plain(off);
+  test::feed(run, plain);
+  EXPECT_GT(meanError(plain.path(), run.ground_truth), 2.0 * error_m);  // the calibration is what helps
+}
+
+TEST(EkfCalibration, AuvSparseOutliersBeaconsBeatDeadReckoningAndRepeat) {
+  // The brief's AUV-like run (seed 203): 3 s steps of 4.5 m, ranges of hundreds of metres,
+  // 45 % outliers (-150..+100 m), true sigma 2 m stated as 0.75 m, odometry 15 % noisy and 3 % short.
+  // Measured 11.5 m against dead reckoning's 16.6 m. A regression guard on this seed only: seeds
+  // 204-206 of the same run still diverge (75, 21, 143 m against 18, 8, 17 m), see the README.
+  sim::SimConfig c;
+  c.seed = 203;
+  c.num_steps = 500;
+  c.dt_s = 3.0;
+  c.speed_mps = 1.5;
+  c.path = sim::PathKind::kLawnMower;
+  c.area_width_m = 300.0;
+  c.area_height_m = 200.0;
+  c.lane_spacing_m = 50.0;
+  c.num_beacons = 4;
+  c.beacon_margin_m = 200.0;
+  c.schedule = sim::RangeSchedule::kRoundRobin;
+  c.range_rate_hz = 0.3;
+  c.range_sigma_m = 2.0;
+  c.range_sigma_reported_m = 0.75;
+  c.outlier_fraction = 0.45;
+  c.outlier_min_m = -150.0;
+  c.outlier_max_m = 100.0;
+  c.odo_distance_sigma_rel = 0.15;
+  c.odo_lateral_sigma_rel = 0.15;
+  c.odo_heading_sigma_rad = 0.005;
+  c.odo_distance_scale = 0.97;
+  const sim::SimRun run = sim::simulate(c);
+  EkfConfig config;
+  config.anchor = "beacons";
+  EkfSlam ekf(config), again(config);
+  test::feed(run, ekf);
+  test::feed(run, again);
+  const double error_m = meanError(ekf.path(), run.ground_truth);
+  const double dr_m = deadReckoningError(run);
+  std::printf("AUV sparse, beacons: mean error %.2f m, dead reckoning %.2f m, recoveries %.0f\n", error_m, dr_m,
+              ekf.diagnostics().at("starvation_recoveries"));
+  EXPECT_LT(error_m, 1.25 * dr_m);
+  EXPECT_GT(ekf.diagnostics().at("starvation_recoveries"), 0.0);  // the stated noise alone starves it
+  ASSERT_EQ(ekf.path().size(), again.path().size());
+  for (size_t k = 0; k < ekf.path().size(); ++k) {
+    EXPECT_EQ(ekf.path()[k].x_m, again.path()[k].x_m);  // bit-identical
+    EXPECT_EQ(ekf.path()[k].y_m, again.path()[k].y_m);
+  }
+}
+
+}  // namespace
+}  // namespace roam
