@@ -32,6 +32,10 @@ std::unique_ptr<roam::Estimator> makeSpectral(roam::Options& options) {
       .min(0.0, false);
   options.add("align_m", &config.align_m, "start_pose: metres of travel the path is aligned on")
       .min(0.0, false);
+  options.add("calibrate_odometry", &config.calibrate_odometry,
+              "estimate the odometry distance scale and gyro bias against the solution, then solve again");
+  options.add("gyro_bias_segment_s", &config.gyro_bias_segment_s,
+              "calibrate_odometry: the gyro bias is constant over segments this long (s)").min(0.0, false);
   options.parse();
   config.anchor = roam::parseSpectralAnchor(anchor);
   config.mode = roam::parseSpectralMode(mode);

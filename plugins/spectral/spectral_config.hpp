@@ -58,7 +58,15 @@ struct SpectralConfig {
   // ~0.01 rad, while odometry (1-2 % of distance) has drifted by well under a metre.
   double align_m = 50.0;
 
-  // Odometry steps longer than this are rejected as jumps (same meaning as deadreckoning).
+  // Estimate the odometry's distance scale and heading-rate (gyro) bias against the spectral
+  // solution and solve again with the calibrated odometry (odometry_calibration.hpp). Costs one
+  // to three more batch solves; false: the odometry is taken as it is.
+  bool calibrate_odometry = true;
+  // The gyro bias is taken as constant over segments this long (a continuous piecewise-linear
+  // heading error; at least 6 windows each): a MEMS gyro's bias wanders with temperature and bias
+  // instability over minutes, and one constant over a half-hour run would turn a late drift into
+  // an early error. A run shorter than this gets one constant bias.
+  double gyro_bias_segment_s = 300.0;
 
   // Throws std::invalid_argument naming the field and what was expected.
   void validate() const;

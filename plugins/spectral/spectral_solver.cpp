@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "odometry_calibration.hpp"
 #include "thin_svd.hpp"
 
 namespace roam {
@@ -86,7 +87,8 @@ MeasurementMatrix measurementMatrix(const RangeInterpolator& interpolator, int r
 }
 
 UpgradedStates upgradeStates(const Eigen::MatrixXd& Yhat, const std::vector<int>& poses,
-                             const SpectralProblem& problem, const SpectralConfig& config) {
+                             const SpectralProblem& problem, const SpectralConfig& config,
+                             const OdometryPath* uncalibrated_path) {
   const int N = static_cast<int>(problem.beacon_ids.size());
   const Eigen::MatrixXd half_sq = Yhat.topRows(N);
   UpgradedStates out;
@@ -96,19 +98,42 @@ UpgradedStates upgradeStates(const Eigen::MatrixXd& Yhat, const std::vector<int>
     out.state_scale = upgrade.state_scale;
   } else {
     const Eigen::Matrix2Xd shape = pathUpToSimilarity(half_sq);
-    Eigen::Matrix2Xd dead_reckoned(2, poses.size());
-    std::vector<int64_t> utime(poses.size());
-    std::vector<double> travelled_m(poses.size());
-    double distance_m = 0.0;
-    int next_step = 0;
-    for (size_t j = 0; j < poses.size(); ++j) {
-      for (; next_step < poses[j]; ++next_step) distance_m += problem.path.step_m[next_step];
-      travelled_m[j] = distance_m;
-      dead_reckoned.col(j) << problem.path.x_m[poses[j]], problem.path.y_m[poses[j]];
-      utime[j] = problem.path.utime[poses[j]];
+    // The similarity onto one dead-reckoned path, and its mean squared misfit over the stretch
+    // that fixes the rotation.
+    auto align = [&](const OdometryPath& path, double* misfit_m2) {
+      Eigen::Matrix2Xd dead_reckoned(2, poses.size());
+      std::vector<int64_t> utime(poses.size());
+      std::vector<double> travelled_m(poses.size());
+      double distance_m = 0.0;
+      int next_step = 0;
+      for (size_t j = 0; j < poses.size(); ++j) {
+        for (; next_step < poses[j]; ++next_step) distance_m += path.step_m[next_step];
+        travelled_m[j] = distance_m;
+        dead_reckoned.col(j) << path.x_m[poses[j]], path.y_m[poses[j]];
+        utime[j] = path.utime[poses[j]];
+      }
+      const Similarity similarity =
+          alignToDeadReckoning(shape, dead_reckoned, utime, travelled_m, config.window_s, config.align_m);
+      int count = 0;
+      while (count < static_cast<int>(poses.size()) && travelled_m[count] <= config.align_m) ++count;
+      count = std::max(count, std::min(static_cast<int>(poses.size()), 3));
+      *misfit_m2 = (similarity.apply(shape.leftCols(count)) - dead_reckoned.leftCols(count)).squaredNorm() / count;
+      return similarity;
+    };
+    double misfit_m2 = 0.0;
+    Similarity similarity = align(problem.path, &misfit_m2);
+    if (uncalibrated_path != nullptr) {
+      // The calibration is a model fitted to the whole run; the rotation rests on the first
+      // align_m alone, where the start pose anchors the raw odometry. The raw odometry is kept
+      // there unless the learned shape fits the calibrated one clearly better (a drift that bends
+      // the stretch adds its own misfit to the positions' noise): kClearlyBetter in mean squared
+      // misfit. On Plaza 1 (no drift) both fit alike (0.35 / 0.36 m^2), and the rotation of the
+      // start-pose table stays the raw odometry's.
+      constexpr double kClearlyBetter = 1.5;
+      double raw_misfit_m2 = 0.0;
+      const Similarity raw = align(*uncalibrated_path, &raw_misfit_m2);
+      if (!(kClearlyBetter * misfit_m2 < raw_misfit_m2)) similarity = raw;
     }
-    const Similarity similarity =
-        alignToDeadReckoning(shape, dead_reckoned, utime, travelled_m, config.window_s, config.align_m);
     out.xy_m = similarity.apply(shape);
   }
   out.beacons_m = learnBeacons(half_sq, out.xy_m);
@@ -209,17 +234,25 @@ double effectiveWindowSeconds(const SpectralProblem& problem, const SpectralConf
   return std::clamp(wanted_s, config.window_s, config.window_max_factor * config.window_s);
 }
 
-SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& given_config) {
+namespace {
+
+// Steps 1-3 on one dead-reckoned path, config.window_s already the effective window.
+struct SolvePass {
+  MeasurementMatrix measurements;
+  Eigen::MatrixXd Yhat;
+  UpgradedStates states;
+};
+
+SolvePass solvePass(const SpectralProblem& problem, const SpectralConfig& config,
+                    const OdometryPath* uncalibrated_path = nullptr) {
   const int N = static_cast<int>(problem.beacon_ids.size());
   const int T = problem.path.size();
-  if (T < 2) throw InsufficientData("spectral: no odometry");
-  if (N < 4) throw InsufficientData("spectral: needs ranges to >= 4 beacons, got " + std::to_string(N));
-  SpectralConfig config = given_config;
-  config.window_s = effectiveWindowSeconds(problem, given_config);
   RangeInterpolator interpolator(N, interpolationConfig(config), problem.path.utime.front());
   const int windows = interpolator.windowsToCover(problem.path.utime.back());
   for (int w = 0; w < windows; ++w) interpolator.addWindow(w, problem.path, problem.ranges);
-  MeasurementMatrix measurements = measurementMatrix(interpolator, config.rank, 0, T);
+  SolvePass pass;
+  MeasurementMatrix& measurements = pass.measurements;
+  measurements = measurementMatrix(interpolator, config.rank, 0, T);
   const int C = static_cast<int>(measurements.poses.size());
   if (C < 10)
     throw InsufficientData("spectral: only " + std::to_string(C) +
@@ -251,19 +284,63 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
       svd = topLeftSvd(measurements.Y, config.rank);
     }
   }
-  const Eigen::MatrixXd Yhat = lowRankProjection(svd.U, measurements.Y);
-  const UpgradedStates states = upgradeStates(Yhat, measurements.poses, problem, config);
+  pass.Yhat = lowRankProjection(svd.U, measurements.Y);
+  pass.states = upgradeStates(pass.Yhat, measurements.poses, problem, config, uncalibrated_path);
+  return pass;
+}
+
+}  // namespace
+
+SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& given_config) {
+  const int N = static_cast<int>(problem.beacon_ids.size());
+  const int T = problem.path.size();
+  if (T < 2) throw InsufficientData("spectral: no odometry");
+  if (N < 4) throw InsufficientData("spectral: needs ranges to >= 4 beacons, got " + std::to_string(N));
+  SpectralConfig config = given_config;
+  config.window_s = effectiveWindowSeconds(problem, given_config);
+  SolvePass pass = solvePass(problem, config);
+  const OdometryPath* path = &problem.path;
 
   SpectralSolution solution;
-  solution.trajectory = assembleTrajectory(problem.path, measurements.poses, states, config.window_s);
-  solution.solved_poses = static_cast<int>(measurements.poses.size());
-  solution.state_scale = states.state_scale;
+  SpectralProblem calibrated;
+  if (config.calibrate_odometry) {
+    // Estimate (s, b) against the solution, dead-reckon again with them, solve again: the windows
+    // and the start-pose upgrade then see calibrated motion. A few passes: each pass's solution is
+    // closer to the truth where the windows bent under the drift.
+    constexpr int kCalibrationPasses = 3;
+    calibrated = problem;
+    for (int iteration = 0; iteration < kCalibrationPasses; ++iteration) {
+      // anchor = start_pose: the learned path takes its scale from the odometry, so only b.
+      const bool metric = config.anchor == SpectralAnchor::kBeacons;
+      const CalibrationFit fit =
+          fitOdometryCalibration(calibrated.path, pass.measurements.poses, pass.states.xy_m, metric,
+                                 config.window_s, std::max(config.gyro_bias_segment_s, 6.0 * config.window_s));
+      if (fit.chunks == 0) break;
+      const double scale_before = calibrated.path.calibration.distance_scale;
+      const std::vector<double> bias_before = calibrated.path.step_bias_rad_s;
+      calibrated.path.recalibrate(fit.distance_scale, fit.step_bias_rad_s);
+      try {
+        pass = solvePass(calibrated, config, &problem.path);
+      } catch (const InsufficientData&) {
+        calibrated.path.recalibrate(scale_before, bias_before);
+        pass = solvePass(calibrated, config, &problem.path);
+        break;
+      }
+      solution.calibration_chunks = fit.chunks;
+      solution.heading_rate_bias_sigma_rad_s = fit.bias_sigma_rad_s;
+    }
+    path = &calibrated.path;
+  }
+  solution.calibration = path->calibration;
+  solution.trajectory = assembleTrajectory(*path, pass.measurements.poses, pass.states, config.window_s);
+  solution.solved_poses = static_cast<int>(pass.measurements.poses.size());
+  solution.state_scale = pass.states.state_scale;
   solution.window_s = config.window_s;
   for (int n = 0; n < N; ++n) {
     Beacon beacon;
     beacon.id = problem.beacon_ids[n];
-    beacon.x_m = states.beacons_m(0, n);
-    beacon.y_m = states.beacons_m(1, n);
+    beacon.x_m = pass.states.beacons_m(0, n);
+    beacon.y_m = pass.states.beacons_m(1, n);
     solution.beacons.push_back(beacon);
   }
   return solution;
