@@ -68,6 +68,18 @@ struct SpectralConfig {
   // an early error. A run shorter than this gets one constant bias.
   double gyro_bias_segment_s = 300.0;
 
+  // Self-check before anything is published (spectral_solver.hpp). The windows' median residual
+  // |range - interpolated range| must be at most this x range_sigma_m: on Gaussian noise it is
+  // 0.67 sigma, so 3 leaves room for a sigma set at the low end and a few outliers, while windows
+  // that outliers or sparse ranges defeated sit at several metres (30 % NLOS: 3.3 m; AUV-like
+  // sparse: 18 m).
+  double max_local_residual_sigma = 3.0;
+  // The solution's median residual |range - |p - m|| (less a per-beacon offset) must be at most
+  // this x the windows' own: a consistent solution explains the ranges about as well as the local
+  // fits (synthetic: 1.2x), a wrong one does not (a failed start-pose upgrade: >= 27x; goats16
+  // with beacons: 7x). 4 sits between, with room for range scale errors the windows absorb.
+  double max_residual_ratio = 4.0;
+
   // Throws std::invalid_argument naming the field and what was expected.
   void validate() const;
 };

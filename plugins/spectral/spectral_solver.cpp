@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "odometry_calibration.hpp"
@@ -237,10 +238,52 @@ double effectiveWindowSeconds(const SpectralProblem& problem, const SpectralConf
 namespace {
 
 // Steps 1-3 on one dead-reckoned path, config.window_s already the effective window.
+double medianOf(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + static_cast<long>(mid), values.end());
+  return values[mid];
+}
+
+// Median |range - scale_n |p(t) - m| - offset_n| of the solution over every range: p(t) linear
+// between the solved poses, m the surveyed beacon (anchor = beacons) or the learned one.
+double globalMedianResidual(const SpectralProblem& problem, const SpectralConfig& config,
+                            const Path& trajectory, const Eigen::Matrix2Xd& learned_beacons) {
+  const int N = static_cast<int>(problem.beacon_ids.size());
+  std::vector<std::vector<double>> range_m(N), distance_m(N);
+  for (const RangeSample& r : problem.ranges) {
+    const int upper = problem.path.lowerBound(r.utime);
+    if (upper >= problem.path.size()) continue;
+    const int lower = std::max(0, upper - (problem.path.utime[upper] == r.utime ? 0 : 1));
+    const double span = static_cast<double>(problem.path.utime[upper] - problem.path.utime[lower]);
+    const double w = span > 0.0 ? static_cast<double>(r.utime - problem.path.utime[lower]) / span : 0.0;
+    const Eigen::Vector2d p((1.0 - w) * trajectory[lower].x_m + w * trajectory[upper].x_m,
+                            (1.0 - w) * trajectory[lower].y_m + w * trajectory[upper].y_m);
+    Eigen::Vector2d m = learned_beacons.col(r.beacon);
+    if (config.anchor == SpectralAnchor::kBeacons && problem.surveyed[r.beacon]) m = *problem.surveyed[r.beacon];
+    range_m[r.beacon].push_back(r.range_m);
+    distance_m[r.beacon].push_back((p - m).norm());
+  }
+  // Less each beacon's range scale and offset (which the spectral model absorbs), both robust:
+  // scale = median(range / distance), offset = median(range - scale distance).
+  std::vector<double> residual;
+  for (int n = 0; n < N; ++n) {
+    std::vector<double> ratio, error;
+    for (size_t i = 0; i < range_m[n].size(); ++i)
+      if (distance_m[n][i] > 0.0) ratio.push_back(range_m[n][i] / distance_m[n][i]);
+    const double scale = ratio.empty() ? 1.0 : medianOf(ratio);
+    for (size_t i = 0; i < range_m[n].size(); ++i) error.push_back(range_m[n][i] - scale * distance_m[n][i]);
+    const double offset = medianOf(error);
+    for (double e : error) residual.push_back(std::abs(e - offset));
+  }
+  return medianOf(residual);
+}
+
 struct SolvePass {
   MeasurementMatrix measurements;
   Eigen::MatrixXd Yhat;
   UpgradedStates states;
+  double local_median_m = 0.0;  // median |range - interpolated range| at the nearest pose
 };
 
 SolvePass solvePass(const SpectralProblem& problem, const SpectralConfig& config,
@@ -251,6 +294,16 @@ SolvePass solvePass(const SpectralProblem& problem, const SpectralConfig& config
   const int windows = interpolator.windowsToCover(problem.path.utime.back());
   for (int w = 0; w < windows; ++w) interpolator.addWindow(w, problem.path, problem.ranges);
   SolvePass pass;
+  {
+    std::vector<double> local;
+    double value;
+    for (const RangeSample& r : problem.ranges) {
+      const int k = std::min(problem.path.lowerBound(r.utime), T - 1);
+      if (interpolator.halfSquaredRange(r.beacon, k, &value))
+        local.push_back(std::abs(r.range_m - std::sqrt(std::max(0.0, 2.0 * value))));
+    }
+    pass.local_median_m = medianOf(local);
+  }
   MeasurementMatrix& measurements = pass.measurements;
   measurements = measurementMatrix(interpolator, config.rank, 0, T);
   const int C = static_cast<int>(measurements.poses.size());
@@ -332,6 +385,30 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
     path = &calibrated.path;
   }
   solution.calibration = path->calibration;
+  solution.trajectory = assembleTrajectory(*path, pass.measurements.poses, pass.states, config.window_s);
+  solution.local_median_residual_m = pass.local_median_m;
+  solution.median_residual_m = globalMedianResidual(problem, config, solution.trajectory, pass.states.beacons_m);
+  // Self-check: never publish a wrong answer. Windows that cannot model the ranges (too many
+  // outliers for the robust fit, ranges too sparse for the window), or a solution that does not
+  // explain the ranges its windows fitted, end the run without a solution and say why.
+  char reason[256];
+  if (solution.local_median_residual_m > config.max_local_residual_sigma * config.range_sigma_m) {
+    std::snprintf(reason, sizeof reason,
+                  "spectral: the interpolation windows do not fit the ranges (median residual %.2f m > "
+                  "max_local_residual_sigma %.3g x range_sigma_m %.3g m): outliers or ranges too sparse",
+                  solution.local_median_residual_m, config.max_local_residual_sigma, config.range_sigma_m);
+    throw InsufficientData(reason);
+  }
+  // The windows' residual, but at least the median |e| of the stated range noise (0.674 sigma):
+  // on noise-free data the windows fit to rounding.
+  const double reference_m = std::max(solution.local_median_residual_m, 0.674 * config.range_sigma_m);
+  if (solution.median_residual_m > config.max_residual_ratio * reference_m) {
+    std::snprintf(reason, sizeof reason,
+                  "spectral: the solution does not explain the ranges (median residual %.2f m > "
+                  "max_residual_ratio %.3g x the windows' %.2f m)",
+                  solution.median_residual_m, config.max_residual_ratio, reference_m);
+    throw InsufficientData(reason);
+  }
   solution.trajectory = assembleTrajectory(*path, pass.measurements.poses, pass.states, config.window_s);
   solution.solved_poses = static_cast<int>(pass.measurements.poses.size());
   solution.state_scale = pass.states.state_scale;

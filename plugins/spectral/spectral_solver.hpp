@@ -43,6 +43,10 @@ struct SpectralSolution {
   estimation::OdometryCalibration calibration;
   double heading_rate_bias_sigma_rad_s = 0.0;  // standard error of the last bias fit
   int calibration_chunks = 0;                  // chunks in the last fit (0: not estimated)
+  // Self-check: median |range - |p(t) - m|| over every range for the solution (global) and for
+  // the windows' interpolation at the nearest pose (local: the data's own noise and outliers).
+  double median_residual_m = 0.0;
+  double local_median_residual_m = 0.0;
 };
 
 InterpolationConfig interpolationConfig(const SpectralConfig& config);
