@@ -125,15 +125,24 @@ UpgradedStates upgradeStates(const Eigen::MatrixXd& Yhat, const std::vector<int>
     Similarity similarity = align(problem.path, &misfit_m2);
     if (uncalibrated_path != nullptr) {
       // The calibration is a model fitted to the whole run; the rotation rests on the first
-      // align_m alone, where the start pose anchors the raw odometry. The raw odometry is kept
-      // there unless the learned shape fits the calibrated one clearly better (a drift that bends
-      // the stretch adds its own misfit to the positions' noise): kClearlyBetter in mean squared
-      // misfit. On Plaza 1 (no drift) both fit alike (0.35 / 0.36 m^2), and the rotation of the
-      // start-pose table stays the raw odometry's.
-      constexpr double kClearlyBetter = 1.5;
-      double raw_misfit_m2 = 0.0;
-      const Similarity raw = align(*uncalibrated_path, &raw_misfit_m2);
-      if (!(kClearlyBetter * misfit_m2 < raw_misfit_m2)) similarity = raw;
+      // align_m alone, where the start pose anchors the raw odometry directly. The calibrated
+      // odometry is used there only if it turns that stretch by more than kNegligibleTurn_rad on
+      // average: the rotation error that learned positions good to ~0.5 m and odometry noise
+      // leave over the stretch (README: ~0.01 rad), with margin. A bias that changed early (a
+      // drift concentrated late in the run) otherwise moves a start-pose solution that was right.
+      constexpr double kNegligibleTurn_rad = 0.05;
+      double turn_rad = 0.0;
+      int count = 0;
+      double distance_m = 0.0;
+      for (int k = 0; k < problem.path.size() && distance_m <= config.align_m; ++k) {
+        turn_rad += std::abs(problem.path.heading_rad[k] - uncalibrated_path->heading_rad[k]);
+        ++count;
+        if (k + 1 < problem.path.size()) distance_m += problem.path.step_m[k];
+      }
+      if (count > 0 && turn_rad / count < kNegligibleTurn_rad) {
+        double raw_misfit_m2 = 0.0;
+        similarity = align(*uncalibrated_path, &raw_misfit_m2);
+      }
     }
     out.xy_m = similarity.apply(shape);
   }
