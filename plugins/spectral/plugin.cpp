@@ -38,6 +38,8 @@ std::unique_ptr<roam::Estimator> makeSpectral(roam::Options& options) {
               "calibrate_odometry: the gyro bias is constant over segments this long (s)").min(0.0, false);
   options.add("max_local_residual_sigma", &config.max_local_residual_sigma,
               "no solution if the windows' median range residual exceeds this x range_sigma_m").min(0.0, false);
+  options.add("window_retries", &config.window_retries,
+              "windows that do not fit the ranges are doubled and the solve repeated this many times").min(0);
   options.add("max_residual_ratio", &config.max_residual_ratio,
               "no solution if the solution's median range residual exceeds this x the windows'").min(1.0);
   options.parse();

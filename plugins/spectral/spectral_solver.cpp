@@ -353,13 +353,17 @@ SolvePass solvePass(const SpectralProblem& problem, const SpectralConfig& config
 
 }  // namespace
 
-SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& given_config) {
+namespace {
+
+// The self-check failed: a longer window may pass (more ranges per fit, so fewer windows that
+// outliers or sparse ranges bent).
+struct WindowsDoNotFit : InsufficientData {
+  using InsufficientData::InsufficientData;
+};
+
+// Steps 1-4 and the self-check with config.window_s as the window.
+SpectralSolution solveAtWindow(const SpectralProblem& problem, const SpectralConfig& config) {
   const int N = static_cast<int>(problem.beacon_ids.size());
-  const int T = problem.path.size();
-  if (T < 2) throw InsufficientData("spectral: no odometry");
-  if (N < 4) throw InsufficientData("spectral: needs ranges to >= 4 beacons, got " + std::to_string(N));
-  SpectralConfig config = given_config;
-  config.window_s = effectiveWindowSeconds(problem, given_config);
   SolvePass pass = solvePass(problem, config);
   const OdometryPath* path = &problem.path;
 
@@ -404,9 +408,11 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
   if (solution.local_median_residual_m > config.max_local_residual_sigma * config.range_sigma_m) {
     std::snprintf(reason, sizeof reason,
                   "spectral: the interpolation windows do not fit the ranges (median residual %.2f m > "
-                  "max_local_residual_sigma %.3g x range_sigma_m %.3g m): outliers or ranges too sparse",
-                  solution.local_median_residual_m, config.max_local_residual_sigma, config.range_sigma_m);
-    throw InsufficientData(reason);
+                  "max_local_residual_sigma %.3g x range_sigma_m %.3g m, window %.0f s): outliers or ranges "
+                  "too sparse",
+                  solution.local_median_residual_m, config.max_local_residual_sigma, config.range_sigma_m,
+                  config.window_s);
+    throw WindowsDoNotFit(reason);
   }
   // The windows' residual, but at least the median |e| of the stated range noise (0.674 sigma):
   // on noise-free data the windows fit to rounding.
@@ -416,7 +422,7 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
                   "spectral: the solution does not explain the ranges (median residual %.2f m > "
                   "max_residual_ratio %.3g x the windows' %.2f m)",
                   solution.median_residual_m, config.max_residual_ratio, reference_m);
-    throw InsufficientData(reason);
+    throw WindowsDoNotFit(reason);
   }
   solution.trajectory = assembleTrajectory(*path, pass.measurements.poses, pass.states, config.window_s);
   solution.solved_poses = static_cast<int>(pass.measurements.poses.size());
@@ -430,6 +436,26 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
     solution.beacons.push_back(beacon);
   }
   return solution;
+}
+
+}  // namespace
+
+SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& given_config) {
+  const int N = static_cast<int>(problem.beacon_ids.size());
+  const int T = problem.path.size();
+  if (T < 2) throw InsufficientData("spectral: no odometry");
+  if (N < 4) throw InsufficientData("spectral: needs ranges to >= 4 beacons, got " + std::to_string(N));
+  SpectralConfig config = given_config;
+  config.window_s = effectiveWindowSeconds(problem, given_config);
+  // A failed self-check: twice the window, up to window_retries times.
+  for (int attempt = 0;; ++attempt) {
+    try {
+      return solveAtWindow(problem, config);
+    } catch (const WindowsDoNotFit& too_few) {
+      if (attempt >= config.window_retries) throw InsufficientData(too_few.what());
+      config.window_s *= 2.0;
+    }
+  }
 }
 
 }  // namespace roam
