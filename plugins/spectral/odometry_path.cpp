@@ -14,17 +14,60 @@ void OdometryPath::reset(const Pose& start) {
   sin_heading.assign(1, std::sin(start.heading_rad));
   step_m.clear();
   turn_rad.clear();
+  odometry.clear();
+  step_bias_rad_s.clear();
 }
 
-void OdometryPath::append(const Odometry& odometry) {
-  x_m.push_back(x_m.back() + odometry.forward_m * cos_heading.back());
-  y_m.push_back(y_m.back() + odometry.forward_m * sin_heading.back());
-  heading_rad.push_back(heading_rad.back() + odometry.delta_heading_rad);
-  cos_heading.push_back(std::cos(heading_rad.back()));
-  sin_heading.push_back(std::sin(heading_rad.back()));
-  utime.push_back(odometry.utime);
-  step_m.push_back(odometry.forward_m);
-  turn_rad.push_back(odometry.delta_heading_rad);
+void OdometryPath::stepFromLast(const Odometry& increment, double bias_rad_s) {
+  const double dt_s = static_cast<double>(increment.utime - utime.back()) * 1e-6;
+  estimation::OdometryCalibration step_calibration = calibration;
+  step_calibration.heading_rate_bias_rad_s = bias_rad_s;
+  const Eigen::Vector3d calibrated = estimation::calibratedIncrement(increment, dt_s, step_calibration);
+  const Eigen::Vector3d next =
+      estimation::step(Eigen::Vector3d(x_m.back(), y_m.back(), heading_rad.back()), calibrated);
+  x_m.push_back(next.x());
+  y_m.push_back(next.y());
+  heading_rad.push_back(next.z());
+  cos_heading.push_back(std::cos(next.z()));
+  sin_heading.push_back(std::sin(next.z()));
+  utime.push_back(increment.utime);
+  step_m.push_back(std::hypot(calibrated.x(), calibrated.y()));
+  turn_rad.push_back(calibrated.z());
+}
+
+void OdometryPath::append(const Odometry& increment) {
+  const int step = static_cast<int>(odometry.size());
+  stepFromLast(increment, stepHeadingBias(step));
+  odometry.push_back(increment);
+}
+
+double OdometryPath::stepHeadingBias(int step) const {
+  return step < static_cast<int>(step_bias_rad_s.size()) ? step_bias_rad_s[step]
+                                                         : calibration.heading_rate_bias_rad_s;
+}
+
+double OdometryPath::meanHeadingBias() const { return calibration.heading_rate_bias_rad_s; }
+
+void OdometryPath::recalibrate(double distance_scale, const std::vector<double>& step_bias) {
+  Pose start;
+  start.utime = utime.front();
+  start.x_m = x_m.front();
+  start.y_m = y_m.front();
+  start.heading_rad = heading_rad.front();
+  const std::vector<Odometry> increments = std::move(odometry);
+  reset(start);
+  calibration.distance_scale = distance_scale;
+  step_bias_rad_s = step_bias;
+  double weighted = 0.0, duration_s = 0.0;
+  for (size_t k = 0; k < increments.size(); ++k) {
+    const double dt_s = static_cast<double>(increments[k].utime - utime.back()) * 1e-6;
+    const double bias = stepHeadingBias(static_cast<int>(k));
+    weighted += bias * dt_s;
+    duration_s += dt_s;
+    stepFromLast(increments[k], bias);
+  }
+  calibration.heading_rate_bias_rad_s = duration_s > 0.0 ? weighted / duration_s : 0.0;
+  odometry = increments;
 }
 
 int OdometryPath::lowerBound(int64_t at_utime) const {

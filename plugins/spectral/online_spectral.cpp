@@ -18,6 +18,10 @@ OdometryPath prefix(const OdometryPath& path, int poses) {
   out.sin_heading.assign(path.sin_heading.begin(), path.sin_heading.begin() + poses);
   out.step_m.assign(path.step_m.begin(), path.step_m.begin() + (poses - 1));
   out.turn_rad.assign(path.turn_rad.begin(), path.turn_rad.begin() + (poses - 1));
+  out.odometry.assign(path.odometry.begin(), path.odometry.begin() + (poses - 1));
+  out.calibration = path.calibration;
+  out.step_bias_rad_s.assign(path.step_bias_rad_s.begin(),
+                             path.step_bias_rad_s.begin() + std::min<long>(poses - 1, path.step_bias_rad_s.size()));
   return out;
 }
 

@@ -32,6 +32,16 @@ std::unique_ptr<roam::Estimator> makeSpectral(roam::Options& options) {
       .min(0.0, false);
   options.add("align_m", &config.align_m, "start_pose: metres of travel the path is aligned on")
       .min(0.0, false);
+  options.add("calibrate_odometry", &config.calibrate_odometry,
+              "estimate the odometry distance scale and gyro bias against the solution, then solve again");
+  options.add("gyro_bias_segment_s", &config.gyro_bias_segment_s,
+              "calibrate_odometry: the gyro bias is constant over segments this long (s)").min(0.0, false);
+  options.add("max_local_residual_sigma", &config.max_local_residual_sigma,
+              "no solution if the windows' median range residual exceeds this x range_sigma_m").min(0.0, false);
+  options.add("window_retries", &config.window_retries,
+              "windows that do not fit the ranges are doubled and the solve repeated this many times").min(0);
+  options.add("max_residual_ratio", &config.max_residual_ratio,
+              "no solution if the solution's median range residual exceeds this x the windows'").min(1.0);
   options.parse();
   config.anchor = roam::parseSpectralAnchor(anchor);
   config.mode = roam::parseSpectralMode(mode);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <random>
 
 #include <Eigen/Dense>
 
@@ -95,6 +97,8 @@ bool fitWindowModel(const Features& phi, const Eigen::VectorXd& target, const In
   constexpr int kIterations = 10;
   constexpr double kSettled = 1e-3;  // largest weight change that counts as converged
   constexpr double kHuberK = 1.345;
+  constexpr int kSubsetTrials = 50;
+  constexpr uint32_t kSubsetSeed = 20130621u;
   constexpr double kTukeyC = 4.685;
   constexpr double kMinScale_m = 0.01;
   const int n = static_cast<int>(phi.cols());
@@ -105,15 +109,90 @@ bool fitWindowModel(const Features& phi, const Eigen::VectorXd& target, const In
   if (!solveInBasis(plain.normal, plain.projected, basis, &theta)) return false;
   if (!config.robust) return true;
 
-  std::vector<double> range_m(n), model_w(n, 1.0), previous_w(n), w(n), abs_e(n);
+  std::vector<double> range_m(n), model_w(n, 0.0), previous_w(n), w(n), abs_e(n);
   for (int i = 0; i < n; ++i) range_m[i] = std::sqrt(2.0 * target(i));
-  auto abs_residual_m = [&](int i) {
-    return std::abs(range_m[i] - std::sqrt(std::max(0.0, 2.0 * theta.dot(phi.col(i)))));
+  auto abs_residual_m = [&](const Eigen::Vector4d& model, int i) {
+    return std::abs(range_m[i] - std::sqrt(std::max(0.0, 2.0 * model.dot(phi.col(i)))));
   };
+  // h-th smallest |e| (least quantile of squares, h = (n + p + 1) / 2: 50 % breakdown for any n).
+  const int p = static_cast<int>(basis.cols());
+  const int h = std::min(n - 1, (n + p + 1) / 2);
+  auto quantile_abs_residual_m = [&](const Eigen::Vector4d& model) {
+    for (int i = 0; i < n; ++i) abs_e[i] = abs_residual_m(model, i);
+    std::nth_element(abs_e.begin(), abs_e.begin() + h, abs_e.end());
+    return abs_e[h];
+  };
+  // Start: least quantile of squares over minimal subsets (as many ranges as the retained basis has
+  // directions), drawn by a fixed-seed generator so runs repeat. With a fraction eps of outliers
+  // a subset is clean with probability (1 - eps)^p: 50 draws find one with > 99 % probability up
+  // to eps = 50 % (p = 4). The least-squares fit is a candidate too (noise-free data: exact).
+  const Eigen::Vector4d least_squares = theta;
+  double best_median_m = quantile_abs_residual_m(theta);
+  if (p > 0 && n > p) {
+    std::mt19937 generator(kSubsetSeed);
+    std::vector<int> subset(p);
+    for (int trial = 0; trial < kSubsetTrials; ++trial) {
+      NormalEquations minimal;
+      for (int k = 0; k < p; ++k) {
+        int index;
+        do {
+          index = static_cast<int>(generator() % static_cast<uint32_t>(n));
+        } while (std::find(subset.begin(), subset.begin() + k, index) != subset.begin() + k);
+        subset[k] = index;
+        minimal.add(phi.col(index), target(index), 1.0);
+      }
+      // A subset that does not span the window's directions (ranges close together) would
+      // extrapolate wildly along the one it misses: skipped.
+      if (retainedBasis(minimal.normal, config.rcond).cols() < p) continue;
+      Eigen::Vector4d candidate;
+      if (!solveInBasis(minimal.normal, minimal.projected, basis, &candidate)) continue;
+      const double median_m = quantile_abs_residual_m(candidate);
+      if (median_m < best_median_m) {
+        best_median_m = median_m;
+        theta = candidate;
+      }
+    }
+  }
+  // Tukey's biweight from there, c = 4.685 s, with the robust scale of the start's residuals,
+  // s = 1.4826 (1 + 5 / (n - p)) |e|_(h) (Rousseeuw & Leroy's small-sample scale), at least
+  // kMinScale_m: the data's own noise, not the configured sigma.
+  const double scale_m = std::max(kMinScale_m, 1.4826 * (1.0 + 5.0 / std::max(1, n - p)) * best_median_m);
+  std::fill(previous_w.begin(), previous_w.end(), 1.0);
+  for (int iteration = 0; iteration < kIterations; ++iteration) {
+    NormalEquations reweighted;
+    bool same_as_model = true;
+    double change = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const double u = abs_residual_m(theta, i) / (kTukeyC * scale_m);
+      w[i] = u < 1.0 ? (1.0 - u * u) * (1.0 - u * u) : 0.0;
+      same_as_model = same_as_model && w[i] == model_w[i];
+      change = std::max(change, std::abs(w[i] - previous_w[i]));
+      reweighted.add(phi.col(i), target(i), w[i]);
+    }
+    if (reweighted.weighted < std::max(config.min_ranges_per_window, h)) break;
+    if (same_as_model) break;  // theta is already the solution with these weights
+    // In the directions the weighted ranges determine: ranges that fixed a weak direction of the
+    // window (high leverage) may be the ones the biweight drops.
+    Eigen::Vector4d solved;
+    if (!solveInBasis(reweighted.normal, reweighted.projected, retainedBasis(reweighted.normal, config.rcond),
+                      &solved))
+      break;
+    theta = solved;
+    model_w = w;
+    if (change < kSettled) break;
+    previous_w = w;
+  }
+  // Accepted if the biweight settled on a fit that keeps at least h ranges (a minimal subset's
+  // exact fit that no refit confirmed is not); otherwise the Huber-then-biweight fit below.
+  int kept = 0;
+  for (int i = 0; i < n; ++i) kept += model_w[i] > 0.0 ? 1 : 0;
+  if (kept >= std::max(config.min_ranges_per_window, h)) return true;
+  theta = least_squares;
+  std::fill(model_w.begin(), model_w.end(), 1.0);
   for (int stage = 0; stage < 2; ++stage) {
     double scale_m = config.range_sigma_m;
     if (stage == 1) {
-      for (int i = 0; i < n; ++i) abs_e[i] = abs_residual_m(i);
+      for (int i = 0; i < n; ++i) abs_e[i] = abs_residual_m(theta, i);
       std::nth_element(abs_e.begin(), abs_e.begin() + n / 2, abs_e.end());
       scale_m = std::clamp(1.4826 * abs_e[n / 2], kMinScale_m, config.range_sigma_m);
     }
@@ -123,7 +202,7 @@ bool fitWindowModel(const Features& phi, const Eigen::VectorXd& target, const In
       bool same_as_model = true;
       double change = 0.0;
       for (int i = 0; i < n; ++i) {
-        const double e_m = abs_residual_m(i);
+        const double e_m = abs_residual_m(theta, i);
         if (stage == 0) {
           w[i] = std::min(1.0, kHuberK * scale_m / std::max(e_m, 1e-300));
         } else {

@@ -14,6 +14,10 @@ void SpectralConfig::validate() const {
   if (!(range_sigma_m > 0.0) || !std::isfinite(range_sigma_m)) fail("range_sigma_m must be > 0");
   if (!(window_max_factor >= 1.0) || !std::isfinite(window_max_factor)) fail("window_max_factor must be >= 1");
   if (!(window_overlap >= 0.0 && window_overlap < 1.0)) fail("window_overlap must be in [0, 1)");
+  if (!(gyro_bias_segment_s > 0.0)) fail("gyro_bias_segment_s must be > 0");
+  if (!(max_local_residual_sigma > 0.0)) fail("max_local_residual_sigma must be > 0");
+  if (!(max_residual_ratio >= 1.0)) fail("max_residual_ratio must be >= 1");
+  if (window_retries < 0) fail("window_retries must be >= 0");
   if (min_ranges_per_window < 4)
     fail("min_ranges_per_window must be >= 4 (the model has 4 parameters)");
   if (!(interpolation_rcond >= 0.0 && interpolation_rcond < 1.0))

@@ -58,7 +58,32 @@ struct SpectralConfig {
   // ~0.01 rad, while odometry (1-2 % of distance) has drifted by well under a metre.
   double align_m = 50.0;
 
-  // Odometry steps longer than this are rejected as jumps (same meaning as deadreckoning).
+  // Estimate the odometry's distance scale and heading-rate (gyro) bias against the spectral
+  // solution and solve again with the calibrated odometry (odometry_calibration.hpp). Costs one
+  // to three more batch solves; false: the odometry is taken as it is.
+  bool calibrate_odometry = true;
+  // The gyro bias is taken as constant over segments this long (a continuous piecewise-linear
+  // heading error; at least 6 windows each): a MEMS gyro's bias wanders with temperature and bias
+  // instability over minutes, and one constant over a half-hour run would turn a late drift into
+  // an early error. A run shorter than this gets one constant bias.
+  double gyro_bias_segment_s = 300.0;
+
+  // Self-check before anything is published (spectral_solver.hpp). The windows' median residual
+  // |range - interpolated range| must be at most this x range_sigma_m: on Gaussian noise it is
+  // 0.67 sigma, so 3 leaves room for a sigma set at the low end and a few outliers, while windows
+  // that outliers or sparse ranges defeated sit at several metres (30 % NLOS: 3.3 m; AUV-like
+  // sparse: 18 m).
+  double max_local_residual_sigma = 3.0;
+  // Windows that fail that test are doubled and the solve repeated, up to this many times: with a
+  // third of the ranges far off, a window of ~16 ranges per beacon leaves the minimal-subset start
+  // too few clean ranges in too many windows; 4x as many fit (synthetic 30 % NLOS: 48 s windows
+  // fail, 192 s give 0.8 m). 0: no retry.
+  int window_retries = 2;
+  // The solution's median residual |range - |p - m|| (less a per-beacon offset) must be at most
+  // this x the windows' own: a consistent solution explains the ranges about as well as the local
+  // fits (synthetic: 1.2x), a wrong one does not (a failed start-pose upgrade: >= 27x; goats16
+  // with beacons: 7x). 4 sits between, with room for range scale errors the windows absorb.
+  double max_residual_ratio = 4.0;
 
   // Throws std::invalid_argument naming the field and what was expected.
   void validate() const;

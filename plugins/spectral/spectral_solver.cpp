@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
+#include "odometry_calibration.hpp"
 #include "thin_svd.hpp"
 
 namespace roam {
@@ -86,7 +88,8 @@ MeasurementMatrix measurementMatrix(const RangeInterpolator& interpolator, int r
 }
 
 UpgradedStates upgradeStates(const Eigen::MatrixXd& Yhat, const std::vector<int>& poses,
-                             const SpectralProblem& problem, const SpectralConfig& config) {
+                             const SpectralProblem& problem, const SpectralConfig& config,
+                             const OdometryPath* uncalibrated_path) {
   const int N = static_cast<int>(problem.beacon_ids.size());
   const Eigen::MatrixXd half_sq = Yhat.topRows(N);
   UpgradedStates out;
@@ -96,19 +99,51 @@ UpgradedStates upgradeStates(const Eigen::MatrixXd& Yhat, const std::vector<int>
     out.state_scale = upgrade.state_scale;
   } else {
     const Eigen::Matrix2Xd shape = pathUpToSimilarity(half_sq);
-    Eigen::Matrix2Xd dead_reckoned(2, poses.size());
-    std::vector<int64_t> utime(poses.size());
-    std::vector<double> travelled_m(poses.size());
-    double distance_m = 0.0;
-    int next_step = 0;
-    for (size_t j = 0; j < poses.size(); ++j) {
-      for (; next_step < poses[j]; ++next_step) distance_m += problem.path.step_m[next_step];
-      travelled_m[j] = distance_m;
-      dead_reckoned.col(j) << problem.path.x_m[poses[j]], problem.path.y_m[poses[j]];
-      utime[j] = problem.path.utime[poses[j]];
+    // The similarity onto one dead-reckoned path, and its mean squared misfit over the stretch
+    // that fixes the rotation.
+    auto align = [&](const OdometryPath& path, double* misfit_m2) {
+      Eigen::Matrix2Xd dead_reckoned(2, poses.size());
+      std::vector<int64_t> utime(poses.size());
+      std::vector<double> travelled_m(poses.size());
+      double distance_m = 0.0;
+      int next_step = 0;
+      for (size_t j = 0; j < poses.size(); ++j) {
+        for (; next_step < poses[j]; ++next_step) distance_m += path.step_m[next_step];
+        travelled_m[j] = distance_m;
+        dead_reckoned.col(j) << path.x_m[poses[j]], path.y_m[poses[j]];
+        utime[j] = path.utime[poses[j]];
+      }
+      const Similarity similarity =
+          alignToDeadReckoning(shape, dead_reckoned, utime, travelled_m, config.window_s, config.align_m);
+      int count = 0;
+      while (count < static_cast<int>(poses.size()) && travelled_m[count] <= config.align_m) ++count;
+      count = std::max(count, std::min(static_cast<int>(poses.size()), 3));
+      *misfit_m2 = (similarity.apply(shape.leftCols(count)) - dead_reckoned.leftCols(count)).squaredNorm() / count;
+      return similarity;
+    };
+    double misfit_m2 = 0.0;
+    Similarity similarity = align(problem.path, &misfit_m2);
+    if (uncalibrated_path != nullptr) {
+      // The calibration is a model fitted to the whole run; the rotation rests on the first
+      // align_m alone, where the start pose anchors the raw odometry directly. The calibrated
+      // odometry is used there only if it turns that stretch by more than kNegligibleTurn_rad on
+      // average: the rotation error that learned positions good to ~0.5 m and odometry noise
+      // leave over the stretch (README: ~0.01 rad), with margin. A bias that changed early (a
+      // drift concentrated late in the run) otherwise moves a start-pose solution that was right.
+      constexpr double kNegligibleTurn_rad = 0.05;
+      double turn_rad = 0.0;
+      int count = 0;
+      double distance_m = 0.0;
+      for (int k = 0; k < problem.path.size() && distance_m <= config.align_m; ++k) {
+        turn_rad += std::abs(problem.path.heading_rad[k] - uncalibrated_path->heading_rad[k]);
+        ++count;
+        if (k + 1 < problem.path.size()) distance_m += problem.path.step_m[k];
+      }
+      if (count > 0 && turn_rad / count < kNegligibleTurn_rad) {
+        double raw_misfit_m2 = 0.0;
+        similarity = align(*uncalibrated_path, &raw_misfit_m2);
+      }
     }
-    const Similarity similarity =
-        alignToDeadReckoning(shape, dead_reckoned, utime, travelled_m, config.window_s, config.align_m);
     out.xy_m = similarity.apply(shape);
   }
   out.beacons_m = learnBeacons(half_sq, out.xy_m);
@@ -209,17 +244,77 @@ double effectiveWindowSeconds(const SpectralProblem& problem, const SpectralConf
   return std::clamp(wanted_s, config.window_s, config.window_max_factor * config.window_s);
 }
 
-SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& given_config) {
+namespace {
+
+// Steps 1-3 on one dead-reckoned path, config.window_s already the effective window.
+double medianOf(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + static_cast<long>(mid), values.end());
+  return values[mid];
+}
+
+// Median |range - scale_n |p(t) - m| - offset_n| of the solution over every range: p(t) linear
+// between the solved poses, m the surveyed beacon (anchor = beacons) or the learned one.
+double globalMedianResidual(const SpectralProblem& problem, const SpectralConfig& config,
+                            const Path& trajectory, const Eigen::Matrix2Xd& learned_beacons) {
+  const int N = static_cast<int>(problem.beacon_ids.size());
+  std::vector<std::vector<double>> range_m(N), distance_m(N);
+  for (const RangeSample& r : problem.ranges) {
+    const int upper = problem.path.lowerBound(r.utime);
+    if (upper >= problem.path.size()) continue;
+    const int lower = std::max(0, upper - (problem.path.utime[upper] == r.utime ? 0 : 1));
+    const double span = static_cast<double>(problem.path.utime[upper] - problem.path.utime[lower]);
+    const double w = span > 0.0 ? static_cast<double>(r.utime - problem.path.utime[lower]) / span : 0.0;
+    const Eigen::Vector2d p((1.0 - w) * trajectory[lower].x_m + w * trajectory[upper].x_m,
+                            (1.0 - w) * trajectory[lower].y_m + w * trajectory[upper].y_m);
+    Eigen::Vector2d m = learned_beacons.col(r.beacon);
+    if (config.anchor == SpectralAnchor::kBeacons && problem.surveyed[r.beacon]) m = *problem.surveyed[r.beacon];
+    range_m[r.beacon].push_back(r.range_m);
+    distance_m[r.beacon].push_back((p - m).norm());
+  }
+  // Less each beacon's range scale and offset (which the spectral model absorbs), both robust:
+  // scale = median(range / distance), offset = median(range - scale distance).
+  std::vector<double> residual;
+  for (int n = 0; n < N; ++n) {
+    std::vector<double> ratio, error;
+    for (size_t i = 0; i < range_m[n].size(); ++i)
+      if (distance_m[n][i] > 0.0) ratio.push_back(range_m[n][i] / distance_m[n][i]);
+    const double scale = ratio.empty() ? 1.0 : medianOf(ratio);
+    for (size_t i = 0; i < range_m[n].size(); ++i) error.push_back(range_m[n][i] - scale * distance_m[n][i]);
+    const double offset = medianOf(error);
+    for (double e : error) residual.push_back(std::abs(e - offset));
+  }
+  return medianOf(residual);
+}
+
+struct SolvePass {
+  MeasurementMatrix measurements;
+  Eigen::MatrixXd Yhat;
+  UpgradedStates states;
+  double local_median_m = 0.0;  // median |range - interpolated range| at the nearest pose
+};
+
+SolvePass solvePass(const SpectralProblem& problem, const SpectralConfig& config,
+                    const OdometryPath* uncalibrated_path = nullptr) {
   const int N = static_cast<int>(problem.beacon_ids.size());
   const int T = problem.path.size();
-  if (T < 2) throw InsufficientData("spectral: no odometry");
-  if (N < 4) throw InsufficientData("spectral: needs ranges to >= 4 beacons, got " + std::to_string(N));
-  SpectralConfig config = given_config;
-  config.window_s = effectiveWindowSeconds(problem, given_config);
   RangeInterpolator interpolator(N, interpolationConfig(config), problem.path.utime.front());
   const int windows = interpolator.windowsToCover(problem.path.utime.back());
   for (int w = 0; w < windows; ++w) interpolator.addWindow(w, problem.path, problem.ranges);
-  MeasurementMatrix measurements = measurementMatrix(interpolator, config.rank, 0, T);
+  SolvePass pass;
+  {
+    std::vector<double> local;
+    double value;
+    for (const RangeSample& r : problem.ranges) {
+      const int k = std::min(problem.path.lowerBound(r.utime), T - 1);
+      if (interpolator.halfSquaredRange(r.beacon, k, &value))
+        local.push_back(std::abs(r.range_m - std::sqrt(std::max(0.0, 2.0 * value))));
+    }
+    pass.local_median_m = medianOf(local);
+  }
+  MeasurementMatrix& measurements = pass.measurements;
+  measurements = measurementMatrix(interpolator, config.rank, 0, T);
   const int C = static_cast<int>(measurements.poses.size());
   if (C < 10)
     throw InsufficientData("spectral: only " + std::to_string(C) +
@@ -251,22 +346,116 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
       svd = topLeftSvd(measurements.Y, config.rank);
     }
   }
-  const Eigen::MatrixXd Yhat = lowRankProjection(svd.U, measurements.Y);
-  const UpgradedStates states = upgradeStates(Yhat, measurements.poses, problem, config);
+  pass.Yhat = lowRankProjection(svd.U, measurements.Y);
+  pass.states = upgradeStates(pass.Yhat, measurements.poses, problem, config, uncalibrated_path);
+  return pass;
+}
+
+}  // namespace
+
+namespace {
+
+// The self-check failed: a longer window may pass (more ranges per fit, so fewer windows that
+// outliers or sparse ranges bent).
+struct WindowsDoNotFit : InsufficientData {
+  using InsufficientData::InsufficientData;
+};
+
+// Steps 1-4 and the self-check with config.window_s as the window.
+SpectralSolution solveAtWindow(const SpectralProblem& problem, const SpectralConfig& config) {
+  const int N = static_cast<int>(problem.beacon_ids.size());
+  SolvePass pass = solvePass(problem, config);
+  const OdometryPath* path = &problem.path;
 
   SpectralSolution solution;
-  solution.trajectory = assembleTrajectory(problem.path, measurements.poses, states, config.window_s);
-  solution.solved_poses = static_cast<int>(measurements.poses.size());
-  solution.state_scale = states.state_scale;
+  SpectralProblem calibrated;
+  if (config.calibrate_odometry) {
+    // Estimate (s, b) against the solution, dead-reckon again with them, solve again: the windows
+    // and the start-pose upgrade then see calibrated motion. A few passes: each pass's solution is
+    // closer to the truth where the windows bent under the drift.
+    constexpr int kCalibrationPasses = 3;
+    calibrated = problem;
+    for (int iteration = 0; iteration < kCalibrationPasses; ++iteration) {
+      // anchor = start_pose: the learned path takes its scale from the odometry, so only b.
+      const bool metric = config.anchor == SpectralAnchor::kBeacons;
+      const CalibrationFit fit =
+          fitOdometryCalibration(calibrated.path, pass.measurements.poses, pass.states.xy_m, metric,
+                                 config.window_s, std::max(config.gyro_bias_segment_s, 6.0 * config.window_s));
+      if (fit.chunks == 0) break;
+      const double scale_before = calibrated.path.calibration.distance_scale;
+      const std::vector<double> bias_before = calibrated.path.step_bias_rad_s;
+      calibrated.path.recalibrate(fit.distance_scale, fit.step_bias_rad_s);
+      try {
+        pass = solvePass(calibrated, config, &problem.path);
+      } catch (const InsufficientData&) {
+        calibrated.path.recalibrate(scale_before, bias_before);
+        pass = solvePass(calibrated, config, &problem.path);
+        break;
+      }
+      solution.calibration_chunks = fit.chunks;
+      solution.heading_rate_bias_sigma_rad_s = fit.bias_sigma_rad_s;
+    }
+    path = &calibrated.path;
+  }
+  solution.calibration = path->calibration;
+  solution.trajectory = assembleTrajectory(*path, pass.measurements.poses, pass.states, config.window_s);
+  solution.local_median_residual_m = pass.local_median_m;
+  solution.median_residual_m = globalMedianResidual(problem, config, solution.trajectory, pass.states.beacons_m);
+  // Self-check: never publish a wrong answer. Windows that cannot model the ranges (too many
+  // outliers for the robust fit, ranges too sparse for the window), or a solution that does not
+  // explain the ranges its windows fitted, end the run without a solution and say why.
+  char reason[256];
+  if (solution.local_median_residual_m > config.max_local_residual_sigma * config.range_sigma_m) {
+    std::snprintf(reason, sizeof reason,
+                  "spectral: the interpolation windows do not fit the ranges (median residual %.2f m > "
+                  "max_local_residual_sigma %.3g x range_sigma_m %.3g m, window %.0f s): outliers or ranges "
+                  "too sparse",
+                  solution.local_median_residual_m, config.max_local_residual_sigma, config.range_sigma_m,
+                  config.window_s);
+    throw WindowsDoNotFit(reason);
+  }
+  // The windows' residual, but at least the median |e| of the stated range noise (0.674 sigma):
+  // on noise-free data the windows fit to rounding.
+  const double reference_m = std::max(solution.local_median_residual_m, 0.674 * config.range_sigma_m);
+  if (solution.median_residual_m > config.max_residual_ratio * reference_m) {
+    std::snprintf(reason, sizeof reason,
+                  "spectral: the solution does not explain the ranges (median residual %.2f m > "
+                  "max_residual_ratio %.3g x the windows' %.2f m)",
+                  solution.median_residual_m, config.max_residual_ratio, reference_m);
+    throw WindowsDoNotFit(reason);
+  }
+  solution.trajectory = assembleTrajectory(*path, pass.measurements.poses, pass.states, config.window_s);
+  solution.solved_poses = static_cast<int>(pass.measurements.poses.size());
+  solution.state_scale = pass.states.state_scale;
   solution.window_s = config.window_s;
   for (int n = 0; n < N; ++n) {
     Beacon beacon;
     beacon.id = problem.beacon_ids[n];
-    beacon.x_m = states.beacons_m(0, n);
-    beacon.y_m = states.beacons_m(1, n);
+    beacon.x_m = pass.states.beacons_m(0, n);
+    beacon.y_m = pass.states.beacons_m(1, n);
     solution.beacons.push_back(beacon);
   }
   return solution;
+}
+
+}  // namespace
+
+SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& given_config) {
+  const int N = static_cast<int>(problem.beacon_ids.size());
+  const int T = problem.path.size();
+  if (T < 2) throw InsufficientData("spectral: no odometry");
+  if (N < 4) throw InsufficientData("spectral: needs ranges to >= 4 beacons, got " + std::to_string(N));
+  SpectralConfig config = given_config;
+  config.window_s = effectiveWindowSeconds(problem, given_config);
+  // A failed self-check: twice the window, up to window_retries times.
+  for (int attempt = 0;; ++attempt) {
+    try {
+      return solveAtWindow(problem, config);
+    } catch (const WindowsDoNotFit& too_few) {
+      if (attempt >= config.window_retries) throw InsufficientData(too_few.what());
+      config.window_s *= 2.0;
+    }
+  }
 }
 
 }  // namespace roam

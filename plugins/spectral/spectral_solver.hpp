@@ -38,6 +38,15 @@ struct SpectralSolution {
   int solved_poses = 0;      // poses with every row of Y (the rest are bridged)
   double state_scale = 1.0;  // anchor = beacons: learned X[0] (kappa^2 for ranges scaled by kappa)
   double window_s = 0.0;     // the interpolation window used (effectiveWindowSeconds)
+  // The odometry calibration the solution's dead reckoning used (config.calibrate_odometry:
+  // estimated against the solution, odometry_calibration.hpp; else s = 1, b = 0).
+  estimation::OdometryCalibration calibration;
+  double heading_rate_bias_sigma_rad_s = 0.0;  // standard error of the last bias fit
+  int calibration_chunks = 0;                  // chunks in the last fit (0: not estimated)
+  // Self-check: median |range - |p(t) - m|| over every range for the solution (global) and for
+  // the windows' interpolation at the nearest pose (local: the data's own noise and outliers).
+  double median_residual_m = 0.0;
+  double local_median_residual_m = 0.0;
 };
 
 InterpolationConfig interpolationConfig(const SpectralConfig& config);
@@ -62,8 +71,11 @@ struct UpgradedStates {
   Eigen::Matrix2Xd beacons_m;    // per row
   double state_scale = 1.0;
 };
+// anchor = start_pose: if uncalibrated_path is given (problem.path is then the calibrated one),
+// the rotation comes from whichever of the two the learned shape fits better over align_m.
 UpgradedStates upgradeStates(const Eigen::MatrixXd& Yhat, const std::vector<int>& poses,
-                             const SpectralProblem& problem, const SpectralConfig& config);
+                             const SpectralProblem& problem, const SpectralConfig& config,
+                             const OdometryPath* uncalibrated_path = nullptr);
 
 // Step 4 and headings: one pose per pose of the path.
 Path assembleTrajectory(const OdometryPath& path, const std::vector<int>& poses,

@@ -289,35 +289,36 @@ namespace {
 
 TEST(SpectralSlam, RobustInterpolationKeepsOutliersOutOfThePath) {
   // sparseWorld() (4 beacons, 2 Hz round robin, 0.1 m noise) with 5 % and 10 % of the ranges read
-  // 5-30 m long (NLOS-like). The robust window fits (Huber, then Tukey) and the trimmed SVD keep
-  // most of them out; the paper's plain least squares lets each bend its window's model.
-  // Measured: clean 0.100 m robust vs 0.098 m plain; 5 %: 0.78 vs 3.9 m; 10 %: 2.2 vs 30 m. With
-  // ~16 ranges per beacon per window (the default), a window that holds several outliers on a
-  // near-straight lane still goes wrong (a 60 s window gives 0.21 m at 10 %). Bounds ~1.5x those.
+  // 5-30 m long (NLOS-like). The robust window fits (least quantile of squares over minimal
+  // subsets, then Tukey with the data's own scale) and the trimmed SVD keep them out; the paper's
+  // plain least squares lets each bend its window's model, and then the self-check refuses the
+  // run (no solution, the reason in STATUS) or the answer is far off.
   for (double fraction : {0.0, 0.05, 0.1}) {
     sim::SimConfig world = sparseWorld();
     world.outlier_fraction = fraction;
     world.outlier_min_m = 5.0;
     world.outlier_max_m = 30.0;
     const sim::SimRun run = sim::simulate(world);
-    double mean_m[2];
+    double mean_m[2] = {-1.0, -1.0};  // -1: no solution
     for (bool robust : {true, false}) {
       SpectralConfig config;
       config.robust_interpolation = robust;
       SpectralSlam slam(config);
       feed(slam, run);
       slam.finish();
-      ASSERT_TRUE(slam.solution().has_value()) << robust;
-      mean_m[robust ? 0 : 1] = pathErrors(slam.solution()->trajectory, run.ground_truth).mean_m;
+      if (slam.solution())
+        mean_m[robust ? 0 : 1] = pathErrors(slam.solution()->trajectory, run.ground_truth).mean_m;
     }
-    std::printf("outliers %.0f %%: robust %.3f m, plain least squares %.3f m mean error\n", 100 * fraction,
-                mean_m[0], mean_m[1]);
+    std::printf("outliers %.0f %%: robust %.3f m, plain least squares %.3f m mean error (-1: none)\n",
+                100 * fraction, mean_m[0], mean_m[1]);
+    ASSERT_GE(mean_m[0], 0.0) << fraction;
     if (fraction == 0.0) {
       EXPECT_LT(mean_m[0], 1.1 * mean_m[1]);  // clean data: as good as least squares
       EXPECT_LT(mean_m[0], kSparseBeaconsMeanBound_m);
     } else {
-      EXPECT_LT(mean_m[0], fraction < 0.07 ? 1.3 : 3.2) << fraction;
-      EXPECT_GT(mean_m[1], 4.0 * mean_m[0]) << fraction;
+      // Measured 0.235 m (5 %) and 1.79 m (10 %); bounds ~1.5x.
+      EXPECT_LT(mean_m[0], fraction < 0.07 ? 0.35 : 2.7) << fraction;
+      EXPECT_TRUE(mean_m[1] < 0.0 || mean_m[1] > 4.0 * mean_m[0]) << fraction;
     }
   }
 }
