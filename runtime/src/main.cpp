@@ -18,6 +18,7 @@
 
 #include "config.hpp"
 #include "host.hpp"
+#include "isolated_instance.hpp"
 #include "live.hpp"
 #include "log_sink.hpp"
 #include "plugin_library.hpp"
@@ -104,7 +105,13 @@ int main(int argc, char** argv) {
       for (const auto& setting : section.plugin_settings) values.emplace_back(setting.key, setting.value);
       EstimatorSlot slot;
       slot.section = section;
-      slot.instance = std::make_unique<PluginInstance>(library, section.name, values);
+      const CallLimits limits{section.max_update_s, section.max_finish_s};
+      if (section.isolated) {
+        slot.instance = std::make_unique<IsolatedInstance>(library, section.name, values,
+                                                           IsolationLimits{limits, section.max_memory_mb});
+      } else {
+        slot.instance = std::make_unique<PluginInstance>(library, section.name, values, limits);
+      }
       effective.push_back(slot.instance->effectiveConfig());
       slots.push_back(std::move(slot));
     } catch (const PluginConfigError& error) {

@@ -4,6 +4,8 @@
 #include <time.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <filesystem>
 
 namespace roam {
@@ -117,9 +119,9 @@ PluginLibrary::~PluginLibrary() {
 }
 
 PluginInstance::PluginInstance(std::shared_ptr<PluginLibrary> library, std::string name,
-                               const KeyValues& config)
+                               const KeyValues& config, CallLimits limits)
     : library_(std::move(library)), d_(&library_->descriptor()), name_(std::move(name)),
-      plugin_name_(d_->name) {
+      plugin_name_(d_->name), limits_(limits) {
   std::vector<roam_kv> kvs;
   for (const auto& [key, value] : config) kvs.push_back(roam_kv{key.c_str(), value.c_str()});
   roam_error error{};
@@ -140,14 +142,29 @@ PluginInstance::~PluginInstance() {
 template <typename Call>
 bool PluginInstance::call(const char* what, Call&& body) {
   if (failed_) return false;
+  const auto wall_start = std::chrono::steady_clock::now();
   const double start = threadCpuSeconds();
   const int rc = body();
   cpu_last_s_ = threadCpuSeconds() - start;
   cpu_total_s_ += cpu_last_s_;
-  if (rc == ROAM_OK) return true;
-  const char* message = d_->last_error(handle_);
-  markFailed(std::string(what) + ": " + (message && message[0] ? message : "error with no message"));
-  return false;
+  // An update is an input call and the polls after it: polls add to the input's wall time.
+  const bool is_poll = std::string(what).rfind("poll_", 0) == 0;
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  wall_last_s_ = is_poll ? wall_last_s_ + wall_s : wall_s;
+  if (rc != ROAM_OK) {
+    const char* message = d_->last_error(handle_);
+    markFailed(std::string(what) + ": " + (message && message[0] ? message : "error with no message"));
+    return false;
+  }
+  const double limit_s = finishing_ ? limits_.max_finish_s : limits_.max_update_s;
+  if (limit_s > 0.0 && wall_last_s_ > limit_s) {
+    char text[160];
+    std::snprintf(text, sizeof text, "%s: took %.3g s, over %s = %g s", what, wall_last_s_,
+                  finishing_ ? "max_finish_s" : "max_update_s", limit_s);
+    markFailed(text);
+    return false;
+  }
+  return true;
 }
 
 void PluginInstance::markFailed(const std::string& error) {
@@ -185,6 +202,7 @@ bool PluginInstance::addRange(const roam_range& range) {
 }
 
 bool PluginInstance::finish() {
+  finishing_ = true;
   return call("finish", [&] { return d_->finish(handle_); });
 }
 
