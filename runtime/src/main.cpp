@@ -5,7 +5,8 @@
 //                   [--print-config] [--duration S] [--no-progress] [--verbose]
 //
 // Exit status: 0 all estimators finished; 1 an estimator failed (named on stderr);
-// 2 bad config, missing plugin, unreadable input (before any data is read).
+// 2 bad config, missing plugin, unreadable input (before any data is read); 3 the output log
+// could not be written (full disk, removed, cannot grow): the run stopped there.
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -52,6 +53,12 @@ std::string defaultPluginPath() {
 int startupError(const std::string& message) {
   std::fprintf(stderr, "roam-run: error: %s\n", message.c_str());
   return 2;
+}
+
+// The output log failed mid-run (full disk, removed, cannot grow): one line, exit 3.
+int outputError(const LogSink& log) {
+  std::fprintf(stderr, "roam-run: error: %s\n", log.error().c_str());
+  return 3;
 }
 
 }  // namespace
@@ -136,8 +143,10 @@ int main(int argc, char** argv) {
     return startupError(error.what());
   }
 
+  if (log_sink) log_sink->stopOnFailure(&g_stop);
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
+  std::signal(SIGXFSZ, SIG_IGN);  // a file that may not grow: write(2) says EFBIG, the log sink reports it
   const bool progress = !args.count("no-progress") && isatty(STDERR_FILENO);
 
   int status = 0;
@@ -152,6 +161,7 @@ int main(int argc, char** argv) {
       return startupError(error.what());
     }
     if (status != 0) return status;
+    if (log_sink && log_sink->failed()) return outputError(*log_sink);
   } else {
     NullSink null_sink;
     Sink* sink = log_sink ? static_cast<Sink*>(log_sink.get()) : &null_sink;
@@ -162,6 +172,7 @@ int main(int argc, char** argv) {
     } catch (const std::exception& error) {
       return startupError(error.what());
     }
+    if (log_sink && log_sink->failed()) return outputError(*log_sink);
     host->finish();
     if (!report.damage().empty()) {
       std::fprintf(stderr, "roam-run: warning: %s: %s\n", config.input.c_str(), report.damage().c_str());
@@ -169,6 +180,7 @@ int main(int argc, char** argv) {
     if (report.interrupted) std::fprintf(stderr, "roam-run: interrupted: finished with the data so far\n");
   }
   if (log_sink) log_sink->flush();
+  if (log_sink && log_sink->failed()) return outputError(*log_sink);
   for (const auto& line : host->summary()) std::fprintf(stderr, "%s\n", line.c_str());
   rusage usage{};
   if (getrusage(RUSAGE_SELF, &usage) == 0) {  // every estimator and the runtime together
