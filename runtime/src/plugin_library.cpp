@@ -1,7 +1,10 @@
 #include "plugin_library.hpp"
 
 #include <dlfcn.h>
+#include <pwd.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -20,7 +23,31 @@ double threadCpuSeconds() {
   return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
+std::string ownerName(uid_t uid) {
+  const passwd* entry = ::getpwuid(uid);
+  return entry != nullptr ? std::string(entry->pw_name) : "uid " + std::to_string(uid);
+}
+
 }  // namespace
+
+void PluginLibrary::checkTrusted(const std::string& path, const char* what) {
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) return;  // missing: the caller says so
+  const uid_t me = ::getuid();
+  if (info.st_uid != me && info.st_uid != 0) {
+    throw PluginError(path + ": " + what + " owned by " + ownerName(info.st_uid) +
+                      ", not by you or root: whoever owns it can change the code roam-run runs; "
+                      "use a plugin folder of your own (or chown it)");
+  }
+  if ((info.st_mode & (S_IWGRP | S_IWOTH)) != 0) {
+    char mode[8];
+    std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(info.st_mode & 07777));
+    throw PluginError(path + ": " + what + " writable by " +
+                      ((info.st_mode & S_IWOTH) ? "others" : "its group") + " (mode " + mode +
+                      "): anyone who can write it can change the code roam-run runs; fix with: chmod go-w " +
+                      path);
+  }
+}
 
 std::vector<std::string> PluginLibrary::available(const std::string& folder) {
   std::vector<std::string> names;
@@ -38,6 +65,7 @@ std::vector<std::string> PluginLibrary::available(const std::string& folder) {
 }
 
 std::shared_ptr<PluginLibrary> PluginLibrary::open(const std::string& folder, const std::string& name) {
+  checkTrusted(folder, "plugin folder");
   const std::string path = (fs::path(folder) / ("libroam_" + name + ".so")).string();
   std::error_code not_there;  // e.g. a name too long for the file system: no such plugin either
   if (!fs::exists(path, not_there)) {
@@ -65,6 +93,9 @@ std::shared_ptr<PluginLibrary> PluginLibrary::open(const std::string& folder, co
 }
 
 std::shared_ptr<PluginLibrary> PluginLibrary::openFile(const std::string& path) {
+  const fs::path folder = fs::path(path).parent_path();
+  checkTrusted(folder.empty() ? "." : folder.string(), "plugin folder");
+  checkTrusted(path, "plugin");
   std::shared_ptr<PluginLibrary> library(new PluginLibrary());
   library->path_ = path;
   dlerror();

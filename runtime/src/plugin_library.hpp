@@ -1,4 +1,5 @@
 // Loading estimator plugins: dlopen(RTLD_LOCAL), the ABI handshake, and the instances.
+// A plugin file or folder that others may write or that someone else owns is refused.
 //
 // A PluginLibrary owns the dlopen handle; every PluginInstance keeps a shared_ptr to its
 // library, so the code stays mapped while any object made by it lives, and each instance is
@@ -54,6 +55,10 @@ class PluginLibrary {
   const std::string& path() const { return path_; }
   // Plugin names found in a folder (libroam_<name>.so), sorted.
   static std::vector<std::string> available(const std::string& folder);
+  // Refuses (PluginError, with the fix) a plugin file or folder that someone other than the
+  // user or root owns, or that its group or others may write: like ssh with a key file, since
+  // whoever can change a plugin runs code as the user of roam-run. `what`: "plugin", "plugin folder".
+  static void checkTrusted(const std::string& path, const char* what);
 
  private:
   PluginLibrary() = default;
