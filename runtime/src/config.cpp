@@ -1,5 +1,6 @@
 #include "config.hpp"
 
+#include <algorithm>
 #include <boost/program_options.hpp>
 #include <cctype>
 #include <cmath>
@@ -7,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <thread>
 
 namespace roam {
 namespace runtime {
@@ -19,7 +21,7 @@ const std::vector<std::string> kRuntimeKeys = {
     "input", "output", "plugin_path", "odometry_channel", "range_channel",
     "initial_pose_channel", "beacons_channel", "ground_truth_channel",
     "trajectory_interval_s", "status_interval_s", "max_odometry_gap_s", "isolation",
-    "max_update_s", "max_finish_s", "idle_warning_s"};
+    "max_update_s", "max_finish_s", "idle_warning_s", "threads"};
 const std::vector<std::string> kEstimatorRuntimeKeys = {
     "plugin", "pose_channel", "map_channel", "trajectory_channel", "status_channel",
     "isolation", "max_update_s", "max_finish_s", "max_memory_mb"};
@@ -202,6 +204,7 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
   };
 
   bool have_input = false;
+  bool threads_given = false;
   config.plugin_path = default_plugin_path;
   // Per-estimator fault settings given in their sections; [runtime] supplies the rest below.
   struct FaultSettings {
@@ -247,6 +250,13 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
           config.max_finish_s = parseNumber(setting, section, 0.0);
         } else if (key == "idle_warning_s") {
           config.idle_warning_s = parseNumber(setting, section, 0.0);
+        } else if (key == "threads") {
+          const double threads = parseNumber(setting, section, 1.0);
+          if (threads != std::floor(threads) || threads > 1024) {
+            fail(setting.origin, section, key, "expected a whole number of threads, 1 to 1024, got '" + setting.value + "'");
+          }
+          config.threads = static_cast<int>(threads);
+          threads_given = true;
         } else {
           std::string message = "unknown key";
           const std::string hint = closestMatch(key, kRuntimeKeys);
@@ -319,6 +329,7 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
   if (config.estimators.empty()) {
     throw ConfigError(path + ": no [estimator.NAME] section: nothing to run");
   }
+  if (!threads_given) config.threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   for (size_t i = 0; i < config.estimators.size(); ++i) {
     EstimatorSection& estimator = config.estimators[i];
     const FaultSettings& faults = fault_settings[i];
@@ -352,6 +363,7 @@ std::string formatConfig(const RunConfig& config, const std::vector<KeyValues>& 
   out << "max_update_s = " << config.max_update_s << "\n";
   out << "max_finish_s = " << config.max_finish_s << "\n";
   out << "idle_warning_s = " << config.idle_warning_s << "\n";
+  out << "threads = " << config.threads << "\n";
   for (size_t i = 0; i < config.estimators.size(); ++i) {
     const auto& estimator = config.estimators[i];
     out << "\n[estimator." << estimator.name << "]\n";

@@ -73,6 +73,7 @@ struct RunConfig {
   double max_update_s = 0.0;            // the estimators' default time limits (0 = none)
   double max_finish_s = 0.0;
   double idle_warning_s = 5.0;          // live mode: warn when an input channel is quiet this long
+  int threads = 1;                      // worker threads for in-process estimators (default: cores)
   std::vector<EstimatorSection> estimators;
   std::vector<Setting> runtime_settings;  // as given, for --print-config
 

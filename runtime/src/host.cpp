@@ -243,12 +243,18 @@ void Host::maybeRequestTrajectories() {
 }
 
 void Host::finish() {
+  // Every estimator's end of input is started before any output is read, so estimators on
+  // workers or in child processes solve at the same time; outputs are published in order.
+  std::vector<double> before_s;
   for (auto& slot : estimators_) {
-    const double before_s = slot.instance->cpuTotalSeconds();
+    before_s.push_back(slot.instance->cpuTotalSeconds());
     if (!slot.instance->failed()) slot.instance->finish();
+  }
+  for (size_t i = 0; i < estimators_.size(); ++i) {
+    EstimatorSlot& slot = estimators_[i];
     publishOutputs(slot, false);
     publishTrajectory(slot, true);
-    slot.finish_cpu_s = slot.instance->cpuTotalSeconds() - before_s;
+    slot.finish_cpu_s = slot.instance->cpuTotalSeconds() - before_s[i];
     publishStatus(slot);
   }
 }

@@ -10,6 +10,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <boost/program_options.hpp>
 #include <csignal>
@@ -24,6 +25,7 @@
 #include "log_sink.hpp"
 #include "plugin_library.hpp"
 #include "replay.hpp"
+#include "threaded_instance.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -129,6 +131,19 @@ int main(int argc, char** argv) {
     } catch (const PluginError& error) {
       return startupError(section.plugin_origin.describe() + " [estimator." + section.name +
                           "] plugin: " + error.what());
+    }
+  }
+  // threads > 1: in-process estimators go to workers, round robin (isolated ones already run in
+  // processes of their own). One estimator needs no worker.
+  std::unique_ptr<WorkerPool> pool;
+  const int in_process = static_cast<int>(std::count_if(slots.begin(), slots.end(),
+                                                        [](const EstimatorSlot& slot) { return !slot.section.isolated; }));
+  if (config.threads > 1 && in_process > 1 && !args.count("print-config")) {
+    pool = std::make_unique<WorkerPool>(std::min(config.threads, in_process));
+    int next = 0;
+    for (auto& slot : slots) {
+      if (slot.section.isolated) continue;
+      slot.instance = std::make_unique<ThreadedInstance>(std::move(slot.instance), pool.get(), next++);
     }
   }
   if (args.count("print-config")) {
