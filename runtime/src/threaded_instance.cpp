@@ -47,37 +47,52 @@ void WorkerPool::run(Worker* worker) {
 ThreadedInstance::ThreadedInstance(std::unique_ptr<EstimatorInstance> inner, WorkerPool* pool, int worker)
     : inner_(std::move(inner)), pool_(pool), worker_(worker) {}
 
-ThreadedInstance::~ThreadedInstance() { settle(); }
+ThreadedInstance::~ThreadedInstance() {
+  settle();
+  // A job the host's thread ran itself leaves an entry in the worker's queue: wait it out.
+  while (queue_entries_.load() > 0) std::this_thread::yield();
+}
+
+bool ThreadedInstance::runIfQueued() {
+  int expected = kQueued;
+  if (!state_.compare_exchange_strong(expected, kRunning)) return false;
+  job_();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    state_.store(kIdle);
+  }
+  done_.notify_all();
+  return true;
+}
 
 void ThreadedInstance::settle() {
+  if (state_.load() == kIdle || runIfQueued()) return;
+  // Running on the worker: most jobs take microseconds, so look a few times before sleeping.
+  for (int i = 0; i < 200; ++i) {
+    if (state_.load() == kIdle) return;
+    std::this_thread::yield();
+  }
   std::unique_lock<std::mutex> lock(mutex_);
-  done_.wait(lock, [&] { return !pending_; });
+  done_.wait(lock, [&] { return state_.load() == kIdle; });
 }
 
 bool ThreadedInstance::start(std::function<void(EstimatorInstance&)> call, bool with_trajectory) {
   settle();
   if (inner_->failed()) return false;
-  pending_ = true;  // no job runs now: no lock needed to set it
-  pool_->submit(worker_, [this, call = std::move(call), with_trajectory] {
+  job_ = [this, call = std::move(call), with_trajectory] {
     EstimatorInstance& inner = *inner_;
     call(inner);
     // The host's order after an input: poses, then the map (only if not failed), then at the end
     // of input the path.
-    std::vector<roam_pose> poses;
-    bool changed = false, poses_ok = false, map_ok = false, trajectory_ok = false;
+    poses_ok_ = map_ok_ = trajectory_ok_ = false;
+    bool changed = false;
     std::vector<roam_beacon> beacons;
     if (!inner.failed()) {
-      poses_ok = inner.pollPoses(&poses);
-      map_ok = inner.pollMap(&changed, &beacons);
+      std::vector<roam_pose> poses;
+      poses_ok_ = inner.pollPoses(&poses);
+      poses_.insert(poses_.end(), poses.begin(), poses.end());
+      map_ok_ = inner.pollMap(&changed, &beacons);
     }
-    bool available = false;
-    std::vector<roam_pose> trajectory;
-    if (with_trajectory && !inner.failed()) trajectory_ok = inner.pollTrajectory(true, &available, &trajectory);
-    std::lock_guard<std::mutex> lock(mutex_);
-    poses_ok_ = poses_ok;
-    map_ok_ = map_ok;
-    trajectory_ok_ = trajectory_ok;
-    poses_.insert(poses_.end(), poses.begin(), poses.end());
     if (changed) {
       map_changed_ = true;
       beacons_ = std::move(beacons);
@@ -85,11 +100,16 @@ bool ThreadedInstance::start(std::function<void(EstimatorInstance&)> call, bool 
     poses_fresh_ = map_fresh_ = true;
     if (with_trajectory) {
       trajectory_fresh_ = true;
-      trajectory_available_ = available;
-      trajectory_ = std::move(trajectory);
+      trajectory_available_ = false;
+      trajectory_.clear();
+      if (!inner.failed()) trajectory_ok_ = inner.pollTrajectory(true, &trajectory_available_, &trajectory_);
     }
-    pending_ = false;
-    done_.notify_all();
+  };
+  state_.store(kQueued);
+  queue_entries_.fetch_add(1);
+  pool_->submit(worker_, [this] {
+    runIfQueued();
+    queue_entries_.fetch_sub(1);
   });
   return true;
 }

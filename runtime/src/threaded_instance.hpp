@@ -4,10 +4,13 @@
 //
 // A ThreadedInstance wraps an in-process instance. An input call (and finish) becomes a job on
 // the instance's worker that makes the call and polls the outputs after it, in the order the host
-// would; the first call that needs the answer waits for the job. Everything else runs on the
-// calling thread once the job is done, so the plugin is never called from two threads at once.
+// would; the first call that needs the answer waits for the job, or runs it itself if its worker
+// has not started it yet (so the host's thread works too, and a job of a few microseconds costs no
+// hand-over). Everything else runs on the calling thread once the job is done, so the plugin is
+// never called from two threads at once.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <deque>
 #include <functional>
@@ -71,16 +74,21 @@ class ThreadedInstance : public EstimatorInstance {
   void markFailed(const std::string& error) override;
 
  private:
-  // Runs `call` on the worker, then polls poses and map (and, at the end of input, the path).
+  // Queues `call` for the worker, then polls poses and map (and, at the end of input, the path).
   bool start(std::function<void(EstimatorInstance&)> call, bool with_trajectory);
+  // Runs the queued job here if no thread has taken it yet; true if it did.
+  bool runIfQueued();
   void settle();
 
+  enum State { kIdle, kQueued, kRunning };
   std::unique_ptr<EstimatorInstance> inner_;
   WorkerPool* pool_;
   int worker_;
+  std::function<void()> job_;
+  std::atomic<int> state_{kIdle};
+  std::atomic<int> queue_entries_{0};  // entries for this instance still in the worker's queue
   std::mutex mutex_;
   std::condition_variable done_;
-  bool pending_ = false;
   // What the job polled, until the host takes it.
   bool poses_fresh_ = false, map_fresh_ = false, trajectory_fresh_ = false;
   std::vector<roam_pose> poses_, trajectory_;
