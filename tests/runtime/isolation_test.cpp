@@ -169,8 +169,8 @@ TEST(Isolation, FaultSettingsAreCheckedAtStartup) {
        "[estimator.dr] max_memory_mb: needs isolation = process (the limit applies to the estimator's own process)"},
       {"[estimator.dr]\nplugin = deadreckoning\nmax_update_s = soon\n",
        "[estimator.dr] max_update_s: expected a number >= 0, got 'soon'"},
-      {"[estimator.dr]\nplugin = deadreckoning\nisolation = process\nmax_step_m = -3\n",
-       "[estimator.dr] max_step_m: expected a value > 0, got '-3'"},  // refused in the child, reported alike
+      {"[estimator.dr]\nplugin = deadreckoning\nisolation = process\nmax_range_m = 0\n",
+       "[estimator.dr] max_range_m: expected a value > 0, got '0'"},  // refused in the child, reported alike
   };
   for (const auto& [estimators, expected] : cases) {
     const auto result = replay(f, "", estimators, "config.lcmlog");
