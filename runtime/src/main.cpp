@@ -134,7 +134,8 @@ int main(int argc, char** argv) {
     }
   }
   // threads > 1: in-process estimators go to workers, round robin (isolated ones already run in
-  // processes of their own). One estimator needs no worker.
+  // processes of their own). One estimator needs no worker. The pool starts after every isolated
+  // child is forked: fork copies only the calling thread.
   std::unique_ptr<WorkerPool> pool;
   const int in_process = static_cast<int>(std::count_if(slots.begin(), slots.end(),
                                                         [](const EstimatorSlot& slot) { return !slot.section.isolated; }));
