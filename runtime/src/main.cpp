@@ -198,19 +198,26 @@ int main(int argc, char** argv) {
   if (log_sink) log_sink->flush();
   if (log_sink && log_sink->failed()) return outputError(*log_sink);
   for (const auto& line : host->summary()) std::fprintf(stderr, "%s\n", line.c_str());
+  std::vector<std::string> failures;
+  for (const auto& slot : host->estimators()) {
+    if (slot.instance->failed()) {
+      failures.push_back("roam-run: estimator '" + slot.section.name + "' failed: " + slot.instance->error());
+    }
+  }
+  const bool any_isolated = std::any_of(config.estimators.begin(), config.estimators.end(),
+                                        [](const EstimatorSection& section) { return section.isolated; });
+  host.reset();  // ends the isolated estimators' processes, so their peak memory can be read
+  pool.reset();
   rusage usage{};
-  if (getrusage(RUSAGE_SELF, &usage) == 0) {  // every estimator and the runtime together
+  if (getrusage(RUSAGE_SELF, &usage) == 0) {  // every in-process estimator and the runtime together
     std::fprintf(stderr, "peak memory: %.1f MB resident\n", static_cast<double>(usage.ru_maxrss) / 1024.0);
   }
-  if (!config.output.empty()) std::fprintf(stderr, "output: %s\n", config.output.c_str());
-  if (host->anyFailed()) {
-    for (const auto& slot : host->estimators()) {
-      if (slot.instance->failed()) {
-        std::fprintf(stderr, "roam-run: estimator '%s' failed: %s\n", slot.section.name.c_str(),
-                     slot.instance->error().c_str());
-      }
-    }
-    status = 1;
+  if (any_isolated && getrusage(RUSAGE_CHILDREN, &usage) == 0) {
+    std::fprintf(stderr, "peak memory of the largest isolated estimator's process: %.1f MB resident\n",
+                 static_cast<double>(usage.ru_maxrss) / 1024.0);
   }
+  if (!config.output.empty()) std::fprintf(stderr, "output: %s\n", config.output.c_str());
+  for (const auto& failure : failures) std::fprintf(stderr, "%s\n", failure.c_str());
+  if (!failures.empty()) status = 1;
   return status;
 }
