@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <climits>
+#include <cstdio>
 
 #include "isolation_protocol.hpp"
 
@@ -19,6 +20,16 @@ namespace {
 void closeOtherDescriptors(int keep) {
   if (keep > 3) ::close_range(3, static_cast<unsigned>(keep - 1), 0);
   ::close_range(static_cast<unsigned>(keep + 1), UINT_MAX, 0);
+}
+
+// The process's virtual size now (the first field of /proc/self/statm, in pages); 0 if unknown.
+double addressSpaceBytes() {
+  FILE* statm = std::fopen("/proc/self/statm", "r");
+  if (statm == nullptr) return 0.0;
+  unsigned long pages = 0;
+  const int got = std::fscanf(statm, "%lu", &pages);
+  std::fclose(statm);
+  return got == 1 ? static_cast<double>(pages) * static_cast<double>(::sysconf(_SC_PAGESIZE)) : 0.0;
 }
 
 void pollOutputs(PluginInstance& instance, Answer* answer) {
@@ -38,7 +49,10 @@ void serveChild(int fd, const std::shared_ptr<PluginLibrary>& library, const std
   ::signal(SIGPIPE, SIG_IGN);
   closeOtherDescriptors(fd);
   if (max_memory_mb > 0.0) {
-    const rlim_t bytes = static_cast<rlim_t>(max_memory_mb * 1024.0 * 1024.0);
+    // On top of the address space the child starts with: a copy of roam-run's, with every plugin
+    // of the run loaded (Ceres and OpenBLAS reserve hundreds of MB of it), which is not the
+    // estimator's doing.
+    const rlim_t bytes = static_cast<rlim_t>(addressSpaceBytes() + max_memory_mb * 1024.0 * 1024.0);
     const rlimit limit{bytes, bytes};
     ::setrlimit(RLIMIT_AS, &limit);
   }

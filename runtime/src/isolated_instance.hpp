@@ -26,7 +26,7 @@ namespace runtime {
 
 struct IsolationLimits {
   CallLimits calls;
-  double max_memory_mb = 0.0;  // the child's address space (RLIMIT_AS); 0 = none
+  double max_memory_mb = 0.0;  // address space the child may add to what it starts with (RLIMIT_AS); 0 = none
 };
 
 class IsolatedInstance : public EstimatorInstance {
