@@ -20,21 +20,19 @@ class Writer {
   template <typename T>
   Writer& pod(const T& value) {
     static_assert(std::is_trivially_copyable<T>::value, "byte copies only");
-    const auto* bytes = reinterpret_cast<const uint8_t*>(&value);
-    bytes_.insert(bytes_.end(), bytes, bytes + sizeof(T));
+    append(&value, sizeof(T));
     return *this;
   }
   Writer& str(const std::string& text) {
     pod(static_cast<uint32_t>(text.size()));
-    bytes_.insert(bytes_.end(), text.begin(), text.end());
+    append(text.data(), text.size());
     return *this;
   }
   template <typename T>
   Writer& pods(const std::vector<T>& values) {
     static_assert(std::is_trivially_copyable<T>::value, "byte copies only");
     pod(static_cast<uint32_t>(values.size()));
-    const auto* bytes = reinterpret_cast<const uint8_t*>(values.data());
-    bytes_.insert(bytes_.end(), bytes, bytes + values.size() * sizeof(T));
+    append(values.data(), values.size() * sizeof(T));
     return *this;
   }
   Writer& strs(const std::vector<std::string>& values) {
@@ -46,6 +44,13 @@ class Writer {
   const std::vector<uint8_t>& bytes() const { return bytes_; }
 
  private:
+  // resize + memcpy rather than vector::insert, which GCC 12 warns about wrongly when inlined.
+  void append(const void* data, size_t size) {
+    if (size == 0) return;
+    const size_t at = bytes_.size();
+    bytes_.resize(at + size);
+    std::memcpy(bytes_.data() + at, data, size);
+  }
   std::vector<uint8_t> bytes_;
 };
 
