@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <fstream>
 #include <regex>
 
 #include "dataset_log.hpp"
@@ -158,6 +159,41 @@ TEST(Isolation, AMemoryLimitStopsAHungryPluginAlone) {
   const ResultLog out = readResultLog((f.dir / "hungry.lcmlog").string());
   EXPECT_EQ(out.find("bad")->poses.size(), 20u);
   EXPECT_EQ(out.find("dr")->poses.size(), 301u);
+}
+
+// The "done when", on the real thing: configs/plaza1-compare.ini (every shipped estimator
+// configuration) over Plaza 1, with a crashing and then a hanging plugin added.
+TEST(Isolation, ThePlaza1ComparisonSurvivesACrashAndAHangAmongItsEstimators) {
+  const fs::path dir = scratchDir("isolation_plaza");
+  std::ifstream compare(fs::path(ROAM_SOURCE_DIR) / "configs/plaza1-compare.ini");
+  std::string line, text;
+  while (std::getline(compare, line)) {
+    if (line.rfind("input", 0) == 0) {
+      line = "input = " + (fs::path(ROAM_SOURCE_DIR) / "logs/plaza1.lcmlog").string();
+    } else if (line.rfind("output", 0) == 0) {
+      line = "plugin_path = " ROAM_TEST_PLUGIN_DIR;
+    }
+    text += line + "\n";
+  }
+  const auto reference = run(roamRun() + " " + writeFile(dir / "reference.ini", text).string() +
+                             " --no-progress --output " + (dir / "reference.lcmlog").string());
+  ASSERT_EQ(reference.status, 0) << reference.output;
+  const std::pair<std::string, std::string> faults[] = {
+      {"crashes", "the estimator's process was killed by signal SIGSEGV (Segmentation fault) during add_odometry"},
+      {"hangs", "no answer within max_update_s = 2 s during add_odometry"}};
+  for (const auto& [plugin, error] : faults) {
+    const fs::path config = writeFile(dir / (plugin + ".ini"), text + "\n[estimator.bad]\nplugin = " + plugin +
+                                                                   "\nisolation = process\nmax_update_s = 2\n"
+                                                                   "fail_after = 1000\n");
+    const auto result = run(roamRun() + " " + config.string() + " --no-progress --output " +
+                            (dir / (plugin + ".lcmlog")).string());
+    EXPECT_EQ(result.status, 1) << result.output;
+    EXPECT_NE(result.output.find("roam-run: estimator 'bad' failed: " + error), std::string::npos) << result.output;
+    const auto others = readEvents((dir / (plugin + ".lcmlog")).string(), "BAD");
+    const auto expected = readEvents((dir / "reference.lcmlog").string());
+    EXPECT_GT(expected.size(), 200000u);
+    EXPECT_EQ(firstDifference(others, expected), "");
+  }
 }
 
 TEST(Isolation, FaultSettingsAreCheckedAtStartup) {
