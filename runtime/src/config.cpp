@@ -3,12 +3,14 @@
 #include "plugin_library.hpp"
 
 #include <boost/program_options.hpp>
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <thread>
 
 namespace roam {
 namespace runtime {
@@ -20,9 +22,11 @@ namespace {
 const std::vector<std::string> kRuntimeKeys = {
     "input", "output", "plugin_path", "odometry_channel", "range_channel",
     "initial_pose_channel", "beacons_channel", "ground_truth_channel",
-    "trajectory_interval_s", "status_interval_s", "max_odometry_gap_s"};
+    "trajectory_interval_s", "status_interval_s", "max_odometry_gap_s", "isolation",
+    "max_update_s", "max_finish_s", "idle_warning_s", "threads"};
 const std::vector<std::string> kEstimatorRuntimeKeys = {
-    "plugin", "pose_channel", "map_channel", "trajectory_channel", "status_channel"};
+    "plugin", "pose_channel", "map_channel", "trajectory_channel", "status_channel",
+    "isolation", "max_update_s", "max_finish_s", "max_memory_mb"};
 
 std::string trim(const std::string& text) {
   const auto begin = text.find_first_not_of(" \t\r\n");
@@ -103,6 +107,12 @@ double parseNumber(const Setting& setting, const std::string& section, double mi
   std::ostringstream expected;
   expected << "expected a number >= " << min_value << ", got '" << setting.value << "'";
   fail(setting.origin, section, setting.key, expected.str());
+}
+
+bool parseIsolation(const Setting& setting, const std::string& section) {
+  if (setting.value == "process") return true;
+  if (setting.value == "none") return false;
+  fail(setting.origin, section, setting.key, "expected one of none | process, got '" + setting.value + "'");
 }
 
 bool validName(const std::string& name) {
@@ -196,7 +206,15 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
   };
 
   bool have_input = false;
+  bool threads_given = false;
   config.plugin_path = default_plugin_path;
+  // Per-estimator fault settings given in their sections; [runtime] supplies the rest below.
+  struct FaultSettings {
+    std::optional<bool> isolated;
+    std::optional<double> max_update_s, max_finish_s;
+    const Setting* memory = nullptr;
+  };
+  std::vector<FaultSettings> fault_settings;
   for (const auto& section : section_order) {
     const auto& settings = sections[section];
     if (section == "runtime") {
@@ -232,6 +250,21 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
           config.status_interval_s = parseNumber(setting, section, 0.0);
         } else if (key == "max_odometry_gap_s") {
           config.max_odometry_gap_s = parseNumber(setting, section, 0.0);
+        } else if (key == "isolation") {
+          config.isolated = parseIsolation(setting, section);
+        } else if (key == "max_update_s") {
+          config.max_update_s = parseNumber(setting, section, 0.0);
+        } else if (key == "max_finish_s") {
+          config.max_finish_s = parseNumber(setting, section, 0.0);
+        } else if (key == "idle_warning_s") {
+          config.idle_warning_s = parseNumber(setting, section, 0.0);
+        } else if (key == "threads") {
+          const double threads = parseNumber(setting, section, 1.0);
+          if (threads != std::floor(threads) || threads > 1024) {
+            fail(setting.origin, section, key, "expected a whole number of threads, 1 to 1024, got '" + setting.value + "'");
+          }
+          config.threads = static_cast<int>(threads);
+          threads_given = true;
         } else {
           std::string message = "unknown key";
           const std::string hint = closestMatch(key, kRuntimeKeys);
@@ -257,8 +290,18 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
       estimator.map_channel = "MAP_" + suffix;
       estimator.trajectory_channel = "TRAJECTORY_" + suffix;
       estimator.status_channel = "STATUS_" + suffix;
+      FaultSettings faults;
       for (const auto& setting : settings) {
-        if (setting.key == "plugin") {
+        if (setting.key == "isolation") {
+          faults.isolated = parseIsolation(setting, section);
+        } else if (setting.key == "max_update_s") {
+          faults.max_update_s = parseNumber(setting, section, 0.0);
+        } else if (setting.key == "max_finish_s") {
+          faults.max_finish_s = parseNumber(setting, section, 0.0);
+        } else if (setting.key == "max_memory_mb") {
+          estimator.max_memory_mb = parseNumber(setting, section, 0.0);
+          faults.memory = &setting;
+        } else if (setting.key == "plugin") {
           estimator.plugin = setting.value;
           estimator.plugin_origin = setting.origin;
         } else if (setting.key == "pose_channel") {
@@ -277,6 +320,7 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
         fail(estimator.section_origin, section, "plugin", "missing: name the plugin, e.g. plugin = spectral");
       }
       config.estimators.push_back(estimator);
+      fault_settings.push_back(faults);
       continue;
     }
     std::string message = "unknown section (expected [runtime] or [estimator.NAME])";
@@ -292,6 +336,18 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
   }
   if (config.estimators.empty()) {
     throw ConfigError(path + ": no [estimator.NAME] section: nothing to run");
+  }
+  if (!threads_given) config.threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  for (size_t i = 0; i < config.estimators.size(); ++i) {
+    EstimatorSection& estimator = config.estimators[i];
+    const FaultSettings& faults = fault_settings[i];
+    estimator.isolated = faults.isolated.value_or(config.isolated);
+    estimator.max_update_s = faults.max_update_s.value_or(config.max_update_s);
+    estimator.max_finish_s = faults.max_finish_s.value_or(config.max_finish_s);
+    if (faults.memory != nullptr && estimator.max_memory_mb > 0.0 && !estimator.isolated) {
+      fail(faults.memory->origin, "estimator." + estimator.name, "max_memory_mb",
+           "needs isolation = process (the limit applies to the estimator's own process)");
+    }
   }
   return config;
 }
@@ -311,6 +367,11 @@ std::string formatConfig(const RunConfig& config, const std::vector<KeyValues>& 
   out << "trajectory_interval_s = " << config.trajectory_interval_s << "\n";
   out << "status_interval_s = " << config.status_interval_s << "\n";
   out << "max_odometry_gap_s = " << config.max_odometry_gap_s << "\n";
+  out << "isolation = " << (config.isolated ? "process" : "none") << "\n";
+  out << "max_update_s = " << config.max_update_s << "\n";
+  out << "max_finish_s = " << config.max_finish_s << "\n";
+  out << "idle_warning_s = " << config.idle_warning_s << "\n";
+  out << "threads = " << config.threads << "\n";
   for (size_t i = 0; i < config.estimators.size(); ++i) {
     const auto& estimator = config.estimators[i];
     out << "\n[estimator." << estimator.name << "]\n";
@@ -319,6 +380,10 @@ std::string formatConfig(const RunConfig& config, const std::vector<KeyValues>& 
     out << "map_channel = " << estimator.map_channel << "\n";
     out << "trajectory_channel = " << estimator.trajectory_channel << "\n";
     out << "status_channel = " << estimator.status_channel << "\n";
+    out << "isolation = " << (estimator.isolated ? "process" : "none") << "\n";
+    out << "max_update_s = " << estimator.max_update_s << "\n";
+    out << "max_finish_s = " << estimator.max_finish_s << "\n";
+    if (estimator.isolated) out << "max_memory_mb = " << estimator.max_memory_mb << "\n";
     if (i < plugin_effective.size()) {
       for (const auto& [key, value] : plugin_effective[i]) out << key << " = " << value << "\n";
     } else {

@@ -9,6 +9,7 @@
 // Relative paths are resolved against the config file's folder.
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -45,6 +46,12 @@ struct EstimatorSection {
   Origin section_origin;  // the [estimator.NAME] line
   std::vector<Setting> plugin_settings;  // passed to the plugin
   std::string pose_channel, map_channel, trajectory_channel, status_channel;
+  // Fault handling (defaults from [runtime]): where the estimator runs, its time limits in
+  // wall-clock seconds (0 = none), and its memory limit in MB (isolation = process only).
+  bool isolated = false;
+  double max_update_s = 0.0;
+  double max_finish_s = 0.0;
+  double max_memory_mb = 0.0;
   // Origin of a plugin key, for error messages (section line if the key is unknown).
   Origin originOf(const std::string& key) const;
 };
@@ -62,6 +69,11 @@ struct RunConfig {
   double trajectory_interval_s = 10.0;  // live mode: request paths this often (data time); 0 = end only
   double status_interval_s = 1.0;       // STATUS_* at least this often (data time)
   double max_odometry_gap_s = 1.0;      // a larger gap between odometry stamps counts as dropped steps
+  bool isolated = false;                // [runtime] isolation: the estimators' default
+  double max_update_s = 0.0;            // the estimators' default time limits (0 = none)
+  double max_finish_s = 0.0;
+  double idle_warning_s = 5.0;          // live mode: warn when an input channel is quiet this long
+  int threads = 1;                      // worker threads for in-process estimators (default: cores)
   std::vector<EstimatorSection> estimators;
   std::vector<Setting> runtime_settings;  // as given, for --print-config
 

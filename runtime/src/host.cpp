@@ -150,7 +150,7 @@ void Host::feedBeacons(const void* data, int size) {
 }
 
 void Host::publishOutputs(EstimatorSlot& slot, bool force_status) {
-  PluginInstance& instance = *slot.instance;
+  EstimatorInstance& instance = *slot.instance;
   if (!instance.failed()) {
     std::vector<roam_pose> poses;
     if (instance.pollPoses(&poses)) {
@@ -199,8 +199,8 @@ void Host::publishTrajectory(EstimatorSlot& slot, bool force) {
 }
 
 void Host::publishStatus(EstimatorSlot& slot) {
-  PluginInstance& instance = *slot.instance;
-  const PluginInstance::Status status = instance.status();
+  EstimatorInstance& instance = *slot.instance;
+  const EstimatorInstance::Status status = instance.status();
   roam::estimator_status_t message;
   message.utime = data_utime_;
   message.estimator = slot.section.name;
@@ -243,12 +243,18 @@ void Host::maybeRequestTrajectories() {
 }
 
 void Host::finish() {
+  // Every estimator's end of input is started before any output is read, so estimators on
+  // workers or in child processes solve at the same time; outputs are published in order.
+  std::vector<double> before_s;
   for (auto& slot : estimators_) {
-    const double before_s = slot.instance->cpuTotalSeconds();
+    before_s.push_back(slot.instance->cpuTotalSeconds());
     if (!slot.instance->failed()) slot.instance->finish();
+  }
+  for (size_t i = 0; i < estimators_.size(); ++i) {
+    EstimatorSlot& slot = estimators_[i];
     publishOutputs(slot, false);
     publishTrajectory(slot, true);
-    slot.finish_cpu_s = slot.instance->cpuTotalSeconds() - before_s;
+    slot.finish_cpu_s = slot.instance->cpuTotalSeconds() - before_s[i];
     publishStatus(slot);
   }
 }
@@ -292,7 +298,7 @@ std::vector<std::string> Host::summary() const {
   std::vector<std::string> lines;
   char line[512];
   for (const auto& slot : estimators_) {
-    const PluginInstance::Status status = slot.instance->status();
+    const EstimatorInstance::Status status = slot.instance->status();
     const char* state = slot.instance->failed() ? "FAILED" : "ok";
     std::snprintf(line, sizeof(line),
                   "%-22s %-15s %-6s poses %7lld  odometry %lld/%lld rejected  ranges %lld/%lld rejected  cpu %.3f s",

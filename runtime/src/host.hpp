@@ -28,7 +28,7 @@ class Sink {
 
 struct EstimatorSlot {
   EstimatorSection section;
-  std::unique_ptr<PluginInstance> instance;
+  std::unique_ptr<EstimatorInstance> instance;
   int64_t poses_published = 0;
   int64_t last_status_utime = INT64_MIN;
   int64_t last_trajectory_utime = INT64_MIN;

@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <lcm/lcm-cpp.hpp>
 
+#include "quiet_bus.hpp"
+
 namespace roam {
 namespace runtime {
 namespace {
@@ -43,14 +45,41 @@ class WallClockLogSink : public Sink {
 };
 
 // Feeds received messages to the host and measures the lag from reception to the end of
-// handling: if the estimators could not keep up, the lag would grow with the backlog.
+// handling: if the estimators could not keep up, the lag would grow with the backlog. A lag over
+// kBacklogWarning_s is reported (at most every kBacklogRepeat_s) with the estimator that took
+// longest on that message.
 class Receiver {
  public:
-  explicit Receiver(Host* host) : host_(host) {}
+  Receiver(Host* host, QuietBusWatch* quiet) : host_(host), quiet_(quiet) {}
   void onMessage(const lcm::ReceiveBuffer* buffer, const std::string& channel) {
     host_->onEvent(channel, buffer->recv_utime, buffer->data, static_cast<int>(buffer->data_size));
     host_->maybeRequestTrajectories();
-    lags_ms_.push_back(static_cast<double>(wallUtime() - buffer->recv_utime) * 1e-3);
+    quiet_->onMessage(channel, host_->dataUtime(), std::chrono::system_clock::now());
+    const int64_t now = wallUtime();
+    const double lag_s = static_cast<double>(now - buffer->recv_utime) * 1e-6;
+    lags_ms_.push_back(lag_s * 1e3);
+    if (lag_s > kBacklogWarning_s && static_cast<double>(now - last_backlog_warning_) * 1e-6 > kBacklogRepeat_s) {
+      last_backlog_warning_ = now;
+      reportBacklog(channel, lag_s);
+    }
+  }
+  void reportBacklog(const std::string& channel, double lag_s) {
+    const EstimatorSlot* slowest = nullptr;
+    double slowest_s = -1.0;
+    for (const auto& slot : host_->estimators()) {
+      const double wall_s = slot.instance->wallLastSeconds();
+      if (wall_s > slowest_s) {
+        slowest_s = wall_s;
+        slowest = &slot;
+      }
+    }
+    std::fprintf(stderr,
+                 "roam-run: warning: live backlog: a message on %s was handled %.2f s after it arrived; the "
+                 "slowest estimator on it: '%s' (%.2f s)%s\n",
+                 channel.c_str(), lag_s, slowest ? slowest->section.name.c_str() : "", slowest_s,
+                 slowest && slowest->section.max_update_s <= 0.0
+                     ? "; max_update_s would stop it from holding up the others"
+                     : "");
   }
   // "N messages; handling lag median X ms, 99th percentile Y ms, max Z ms"
   std::string lagSummary() {
@@ -75,8 +104,12 @@ class Receiver {
   }
 
  private:
+  static constexpr double kBacklogWarning_s = 1.0;
+  static constexpr double kBacklogRepeat_s = 10.0;
   Host* host_;
+  QuietBusWatch* quiet_;
   std::vector<double> lags_ms_;
+  int64_t last_backlog_warning_ = 0;
 };
 
 }  // namespace
@@ -97,7 +130,9 @@ int runLive(const RunConfig& config, std::vector<EstimatorSlot> slots, LogSink* 
     outputs.add(log_sink.get());
   }
   *host = std::make_unique<Host>(config, std::move(slots), &outputs, log_sink.get());
-  Receiver receiver(host->get());
+  QuietBusWatch quiet({config.odometry_channel, config.range_channel}, config.idle_warning_s,
+                      std::chrono::system_clock::now());
+  Receiver receiver(host->get(), &quiet);
   for (const std::string& channel :
        {config.odometry_channel, config.range_channel, config.initial_pose_channel,
         config.beacons_channel, config.ground_truth_channel}) {
@@ -113,6 +148,7 @@ int runLive(const RunConfig& config, std::vector<EstimatorSlot> slots, LogSink* 
       std::fprintf(stderr, "roam-run: error: the LCM bus failed: %s\n", std::strerror(errno));
       break;
     }
+    quiet.check(std::chrono::system_clock::now());
     const auto now = std::chrono::steady_clock::now();
     if (log != nullptr && now - last_flush > std::chrono::milliseconds(500)) {
       log->flush();

@@ -5,10 +5,12 @@
 //                   [--print-config] [--duration S] [--no-progress] [--verbose]
 //
 // Exit status: 0 all estimators finished; 1 an estimator failed (named on stderr);
-// 2 bad config, missing plugin, unreadable input (before any data is read).
+// 2 bad config, missing plugin, unreadable input (before any data is read); 3 the output log
+// could not be written (full disk, removed, cannot grow): the run stopped there.
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <boost/program_options.hpp>
 #include <csignal>
@@ -18,10 +20,12 @@
 
 #include "config.hpp"
 #include "host.hpp"
+#include "isolated_instance.hpp"
 #include "live.hpp"
 #include "log_sink.hpp"
 #include "plugin_library.hpp"
 #include "replay.hpp"
+#include "threaded_instance.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -51,6 +55,12 @@ std::string defaultPluginPath() {
 int startupError(const std::string& message) {
   std::fprintf(stderr, "roam-run: error: %s\n", message.c_str());
   return 2;
+}
+
+// The output log failed mid-run (full disk, removed, cannot grow): one line, exit 3.
+int outputError(const LogSink& log) {
+  std::fprintf(stderr, "roam-run: error: %s\n", log.error().c_str());
+  return 3;
 }
 
 }  // namespace
@@ -104,7 +114,13 @@ int main(int argc, char** argv) {
       for (const auto& setting : section.plugin_settings) values.emplace_back(setting.key, setting.value);
       EstimatorSlot slot;
       slot.section = section;
-      slot.instance = std::make_unique<PluginInstance>(library, section.name, values);
+      const CallLimits limits{section.max_update_s, section.max_finish_s};
+      if (section.isolated) {
+        slot.instance = std::make_unique<IsolatedInstance>(library, section.name, values,
+                                                           IsolationLimits{limits, section.max_memory_mb});
+      } else {
+        slot.instance = std::make_unique<PluginInstance>(library, section.name, values, limits);
+      }
       effective.push_back(slot.instance->effectiveConfig());
       slots.push_back(std::move(slot));
     } catch (const PluginConfigError& error) {
@@ -115,6 +131,20 @@ int main(int argc, char** argv) {
     } catch (const PluginError& error) {
       return startupError(section.plugin_origin.describe() + " [estimator." + section.name +
                           "] plugin: " + error.what());
+    }
+  }
+  // threads > 1: in-process estimators go to workers, round robin (isolated ones already run in
+  // processes of their own). One estimator needs no worker. The pool starts after every isolated
+  // child is forked: fork copies only the calling thread.
+  std::unique_ptr<WorkerPool> pool;
+  const int in_process = static_cast<int>(std::count_if(slots.begin(), slots.end(),
+                                                        [](const EstimatorSlot& slot) { return !slot.section.isolated; }));
+  if (config.threads > 1 && in_process > 1 && !args.count("print-config")) {
+    pool = std::make_unique<WorkerPool>(std::min(config.threads, in_process));
+    int next = 0;
+    for (auto& slot : slots) {
+      if (slot.section.isolated) continue;
+      slot.instance = std::make_unique<ThreadedInstance>(std::move(slot.instance), pool.get(), next++);
     }
   }
   if (args.count("print-config")) {
@@ -129,8 +159,10 @@ int main(int argc, char** argv) {
     return startupError(error.what());
   }
 
+  if (log_sink) log_sink->stopOnFailure(&g_stop);
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
+  std::signal(SIGXFSZ, SIG_IGN);  // a file that may not grow: write(2) says EFBIG, the log sink reports it
   const bool progress = !args.count("no-progress") && isatty(STDERR_FILENO);
 
   int status = 0;
@@ -145,6 +177,7 @@ int main(int argc, char** argv) {
       return startupError(error.what());
     }
     if (status != 0) return status;
+    if (log_sink && log_sink->failed()) return outputError(*log_sink);
   } else {
     NullSink null_sink;
     Sink* sink = log_sink ? static_cast<Sink*>(log_sink.get()) : &null_sink;
@@ -155,6 +188,7 @@ int main(int argc, char** argv) {
     } catch (const std::exception& error) {
       return startupError(error.what());
     }
+    if (log_sink && log_sink->failed()) return outputError(*log_sink);
     host->finish();
     if (!report.damage().empty()) {
       std::fprintf(stderr, "roam-run: warning: %s: %s\n", config.input.c_str(), report.damage().c_str());
@@ -162,20 +196,28 @@ int main(int argc, char** argv) {
     if (report.interrupted) std::fprintf(stderr, "roam-run: interrupted: finished with the data so far\n");
   }
   if (log_sink) log_sink->flush();
+  if (log_sink && log_sink->failed()) return outputError(*log_sink);
   for (const auto& line : host->summary()) std::fprintf(stderr, "%s\n", line.c_str());
+  std::vector<std::string> failures;
+  for (const auto& slot : host->estimators()) {
+    if (slot.instance->failed()) {
+      failures.push_back("roam-run: estimator '" + slot.section.name + "' failed: " + slot.instance->error());
+    }
+  }
+  const bool any_isolated = std::any_of(config.estimators.begin(), config.estimators.end(),
+                                        [](const EstimatorSection& section) { return section.isolated; });
+  host.reset();  // ends the isolated estimators' processes, so their peak memory can be read
+  pool.reset();
   rusage usage{};
-  if (getrusage(RUSAGE_SELF, &usage) == 0) {  // every estimator and the runtime together
+  if (getrusage(RUSAGE_SELF, &usage) == 0) {  // every in-process estimator and the runtime together
     std::fprintf(stderr, "peak memory: %.1f MB resident\n", static_cast<double>(usage.ru_maxrss) / 1024.0);
   }
-  if (!config.output.empty()) std::fprintf(stderr, "output: %s\n", config.output.c_str());
-  if (host->anyFailed()) {
-    for (const auto& slot : host->estimators()) {
-      if (slot.instance->failed()) {
-        std::fprintf(stderr, "roam-run: estimator '%s' failed: %s\n", slot.section.name.c_str(),
-                     slot.instance->error().c_str());
-      }
-    }
-    status = 1;
+  if (any_isolated && getrusage(RUSAGE_CHILDREN, &usage) == 0) {
+    std::fprintf(stderr, "peak memory of the largest isolated estimator's process: %.1f MB resident\n",
+                 static_cast<double>(usage.ru_maxrss) / 1024.0);
   }
+  if (!config.output.empty()) std::fprintf(stderr, "output: %s\n", config.output.c_str());
+  for (const auto& failure : failures) std::fprintf(stderr, "%s\n", failure.c_str());
+  if (!failures.empty()) status = 1;
   return status;
 }

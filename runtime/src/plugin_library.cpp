@@ -1,9 +1,14 @@
 #include "plugin_library.hpp"
 
 #include <dlfcn.h>
+#include <pwd.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <filesystem>
 
 namespace roam {
@@ -18,7 +23,31 @@ double threadCpuSeconds() {
   return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
+std::string ownerName(uid_t uid) {
+  const passwd* entry = ::getpwuid(uid);
+  return entry != nullptr ? std::string(entry->pw_name) : "uid " + std::to_string(uid);
+}
+
 }  // namespace
+
+void PluginLibrary::checkTrusted(const std::string& path, const char* what) {
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) return;  // missing: the caller says so
+  const uid_t me = ::getuid();
+  if (info.st_uid != me && info.st_uid != 0) {
+    throw PluginError(path + ": " + what + " owned by " + ownerName(info.st_uid) +
+                      ", not by you or root: whoever owns it can change the code roam-run runs; "
+                      "use a plugin folder of your own (or chown it)");
+  }
+  if ((info.st_mode & (S_IWGRP | S_IWOTH)) != 0) {
+    char mode[8];
+    std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(info.st_mode & 07777));
+    throw PluginError(path + ": " + what + " writable by " +
+                      ((info.st_mode & S_IWOTH) ? "others" : "its group") + " (mode " + mode +
+                      "): anyone who can write it can change the code roam-run runs; fix with: chmod go-w " +
+                      path);
+  }
+}
 
 std::vector<std::string> PluginLibrary::available(const std::string& folder) {
   std::vector<std::string> names;
@@ -50,6 +79,7 @@ std::shared_ptr<PluginLibrary> PluginLibrary::open(const std::string& search_pat
   const auto folders = searchFolders(search_path);
   std::string path;
   for (const std::string& folder : folders) {
+    checkTrusted(folder, "plugin folder");
     std::error_code not_there;  // e.g. a name too long for the file system: no such plugin either
     const std::string candidate = (fs::path(folder) / ("libroam_" + name + ".so")).string();
     if (fs::exists(candidate, not_there)) {
@@ -88,6 +118,9 @@ std::shared_ptr<PluginLibrary> PluginLibrary::open(const std::string& search_pat
 }
 
 std::shared_ptr<PluginLibrary> PluginLibrary::openFile(const std::string& path) {
+  const fs::path folder = fs::path(path).parent_path();
+  checkTrusted(folder.empty() ? "." : folder.string(), "plugin folder");
+  checkTrusted(path, "plugin");
   std::shared_ptr<PluginLibrary> library(new PluginLibrary());
   library->path_ = path;
   dlerror();
@@ -154,9 +187,9 @@ PluginLibrary::~PluginLibrary() {
 }
 
 PluginInstance::PluginInstance(std::shared_ptr<PluginLibrary> library, std::string name,
-                               const KeyValues& config)
+                               const KeyValues& config, CallLimits limits)
     : library_(std::move(library)), d_(&library_->descriptor()), name_(std::move(name)),
-      plugin_name_(d_->name) {
+      plugin_name_(d_->name), limits_(limits) {
   std::vector<roam_kv> kvs;
   for (const auto& [key, value] : config) kvs.push_back(roam_kv{key.c_str(), value.c_str()});
   roam_error error{};
@@ -177,14 +210,29 @@ PluginInstance::~PluginInstance() {
 template <typename Call>
 bool PluginInstance::call(const char* what, Call&& body) {
   if (failed_) return false;
+  const auto wall_start = std::chrono::steady_clock::now();
   const double start = threadCpuSeconds();
   const int rc = body();
   cpu_last_s_ = threadCpuSeconds() - start;
   cpu_total_s_ += cpu_last_s_;
-  if (rc == ROAM_OK) return true;
-  const char* message = d_->last_error(handle_);
-  markFailed(std::string(what) + ": " + (message && message[0] ? message : "error with no message"));
-  return false;
+  // An update is an input call and the polls after it: polls add to the input's wall time.
+  const bool is_poll = std::string(what).rfind("poll_", 0) == 0;
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  wall_last_s_ = is_poll ? wall_last_s_ + wall_s : wall_s;
+  if (rc != ROAM_OK) {
+    const char* message = d_->last_error(handle_);
+    markFailed(std::string(what) + ": " + (message && message[0] ? message : "error with no message"));
+    return false;
+  }
+  const double limit_s = finishing_ ? limits_.max_finish_s : limits_.max_update_s;
+  if (limit_s > 0.0 && wall_last_s_ > limit_s) {
+    char text[160];
+    std::snprintf(text, sizeof text, "%s: took %.3g s, over %s = %g s", what, wall_last_s_,
+                  finishing_ ? "max_finish_s" : "max_update_s", limit_s);
+    markFailed(text);
+    return false;
+  }
+  return true;
 }
 
 void PluginInstance::markFailed(const std::string& error) {
@@ -222,6 +270,7 @@ bool PluginInstance::addRange(const roam_range& range) {
 }
 
 bool PluginInstance::finish() {
+  finishing_ = true;
   return call("finish", [&] { return d_->finish(handle_); });
 }
 

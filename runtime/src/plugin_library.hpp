@@ -1,10 +1,13 @@
 // Loading estimator plugins: dlopen(RTLD_LOCAL), the ABI handshake, and the instances.
+// A plugin file or folder that others may write or that someone else owns is refused.
 //
 // A PluginLibrary owns the dlopen handle; every PluginInstance keeps a shared_ptr to its
 // library, so the code stays mapped while any object made by it lives, and each instance is
 // destroyed with the plugin's own destroy function. Every call into an instance is timed in
-// thread CPU time. A call that fails marks the instance failed: it keeps its error message and
-// receives no more data, while the other instances go on.
+// thread CPU time and wall-clock time. A call that fails, or that takes longer than its CallLimits
+// allow, marks the instance failed: it keeps its error message and receives no more data, while
+// the other instances go on. (A call in this process cannot be interrupted: the limit is checked
+// when it returns. IsolatedInstance ends a child that does not answer in time.)
 #pragma once
 
 #include <memory>
@@ -12,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "estimator_instance.hpp"
 #include "roam/options.hpp"
 #include "roam/plugin_abi.h"
 #include "roam/types.hpp"
@@ -54,6 +58,10 @@ class PluginLibrary {
   const std::string& path() const { return path_; }
   // Plugin names found in a folder (libroam_<name>.so), sorted.
   static std::vector<std::string> available(const std::string& folder);
+  // Refuses (PluginError, with the fix) a plugin file or folder that someone other than the
+  // user or root owns, or that its group or others may write: like ssh with a key file, since
+  // whoever can change a plugin runs code as the user of roam-run. `what`: "plugin", "plugin folder".
+  static void checkTrusted(const std::string& path, const char* what);
 
  private:
   PluginLibrary() = default;
@@ -63,48 +71,40 @@ class PluginLibrary {
 };
 
 
-class PluginInstance {
+class PluginInstance : public EstimatorInstance {
  public:
   // Creates an instance from key/values; throws PluginConfigError if the plugin refuses.
-  PluginInstance(std::shared_ptr<PluginLibrary> library, std::string name, const KeyValues& config);
-  ~PluginInstance();
+  PluginInstance(std::shared_ptr<PluginLibrary> library, std::string name, const KeyValues& config,
+                 CallLimits limits = {});
+  ~PluginInstance() override;
   PluginInstance(const PluginInstance&) = delete;
   PluginInstance& operator=(const PluginInstance&) = delete;
 
-  const std::string& name() const { return name_; }
-  const std::string& pluginName() const { return plugin_name_; }
-  bool failed() const { return failed_; }
-  const std::string& error() const { return error_; }
-  double cpuTotalSeconds() const { return cpu_total_s_; }
-  double cpuLastSeconds() const { return cpu_last_s_; }
-  KeyValues effectiveConfig();
+  const std::string& name() const override { return name_; }
+  const std::string& pluginName() const override { return plugin_name_; }
+  bool failed() override { return failed_; }
+  const std::string& error() override { return error_; }
+  double cpuTotalSeconds() override { return cpu_total_s_; }
+  double cpuLastSeconds() override { return cpu_last_s_; }
+  double wallLastSeconds() override { return wall_last_s_; }
+  KeyValues effectiveConfig() override;
 
-  // Inputs; each returns false (and marks the instance failed) if the plugin reports an error.
-  // A failed instance ignores further input.
-  bool setInitialPose(const roam_pose& pose);
-  bool setBeacons(const std::vector<roam_beacon>& beacons);
-  bool addOdometry(const roam_odometry& odometry);
-  bool addRange(const roam_range& range);
-  bool finish();
+  bool setInitialPose(const roam_pose& pose) override;
+  bool setBeacons(const std::vector<roam_beacon>& beacons) override;
+  bool addOdometry(const roam_odometry& odometry) override;
+  bool addRange(const roam_range& range) override;
+  bool finish() override;
 
   // Outputs (copied out of the plugin's buffers).
-  bool pollPoses(std::vector<roam_pose>* poses);
-  bool pollMap(bool* changed, std::vector<roam_beacon>* beacons);
-  bool pollTrajectory(bool force, bool* available, std::vector<roam_pose>* poses);
+  bool pollPoses(std::vector<roam_pose>* poses) override;
+  bool pollMap(bool* changed, std::vector<roam_beacon>* beacons) override;
+  bool pollTrajectory(bool force, bool* available, std::vector<roam_pose>* poses) override;
 
-  struct Status {
-    int32_t state = ROAM_STATE_INITIALIZING;
-    int64_t odometry_accepted = 0, odometry_rejected = 0, ranges_accepted = 0, ranges_rejected = 0;
-    std::string last_rejection;
-    std::vector<std::string> keys;
-    std::vector<double> values;
-  };
-  Status status();
-  // Marks the instance failed from outside (e.g. the host caught something).
-  void markFailed(const std::string& error);
+  Status status() override;
+  void markFailed(const std::string& error) override;
 
  private:
-  // Runs one call into the plugin, timed; false and failed on error.
+  // Runs one call into the plugin, timed; false and failed on error or over the time limit.
   template <typename Call>
   bool call(const char* what, Call&& body);
 
@@ -113,10 +113,13 @@ class PluginInstance {
   roam_handle handle_ = nullptr;
   std::string name_;
   std::string plugin_name_;
+  CallLimits limits_;
+  bool finishing_ = false;  // finish() was called: max_finish_s applies
   bool failed_ = false;
   std::string error_;
   double cpu_total_s_ = 0.0;
   double cpu_last_s_ = 0.0;
+  double wall_last_s_ = 0.0;
 };
 
 }  // namespace runtime

@@ -57,8 +57,9 @@ TEST(Loader, AMissingPluginGetsAHint) {
   EXPECT_EQ(openError("deadreckonin"),
             "no plugin 'deadreckonin' in " + kDir + " (did you mean 'deadreckoning'?)");
   EXPECT_EQ(openError("kalman"), "no plugin 'kalman' in " + kDir +
-                                     " (available: create_fails deadreckoning no_entry throws "
-                                     "wrong_layout wrong_size wrong_version)");
+                                     " (available: aborts crashes create_fails deadreckoning ekf hangs "
+                                     "hungry no_entry online_em spectral spectral_batch throws wrong_layout "
+                                     "wrong_size wrong_version)");
 }
 
 TEST(Loader, CreateFailuresCarryTheKeyAndMessage) {

@@ -1,0 +1,65 @@
+// What the host drives: one configured estimator, in this process (PluginInstance) or in a child
+// process of its own (IsolatedInstance). The host calls the same methods in the same order either
+// way, so a replay's output does not depend on where an estimator runs.
+//
+// Inputs return false (and leave the instance failed) if the estimator fails; a failed instance
+// ignores further input and keeps its error. An isolated instance may answer an input call before
+// the child has finished it: the next call that needs the answer (failed(), a poll, status())
+// waits for it, so the host can hand one event to several children before it reads any answer.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "roam/options.hpp"
+#include "roam/plugin_abi.h"
+
+namespace roam {
+namespace runtime {
+
+// Time limits on calls into an estimator, in wall-clock seconds; 0 = none.
+struct CallLimits {
+  double max_update_s = 0.0;  // one input message and the outputs polled after it
+  double max_finish_s = 0.0;  // the end of input: finish and the final outputs
+};
+
+class EstimatorInstance {
+ public:
+  virtual ~EstimatorInstance() = default;
+
+  virtual const std::string& name() const = 0;
+  virtual const std::string& pluginName() const = 0;
+  virtual bool failed() = 0;
+  virtual const std::string& error() = 0;
+  virtual double cpuTotalSeconds() = 0;
+  virtual double cpuLastSeconds() = 0;
+  // Wall-clock seconds of the last update (input and outputs), for live mode's backlog report.
+  virtual double wallLastSeconds() = 0;
+  virtual KeyValues effectiveConfig() = 0;
+
+  virtual bool setInitialPose(const roam_pose& pose) = 0;
+  virtual bool setBeacons(const std::vector<roam_beacon>& beacons) = 0;
+  virtual bool addOdometry(const roam_odometry& odometry) = 0;
+  virtual bool addRange(const roam_range& range) = 0;
+  // End of input; from here on CallLimits::max_finish_s applies instead of max_update_s.
+  virtual bool finish() = 0;
+
+  virtual bool pollPoses(std::vector<roam_pose>* poses) = 0;
+  virtual bool pollMap(bool* changed, std::vector<roam_beacon>* beacons) = 0;
+  virtual bool pollTrajectory(bool force, bool* available, std::vector<roam_pose>* poses) = 0;
+
+  struct Status {
+    int32_t state = ROAM_STATE_INITIALIZING;
+    int64_t odometry_accepted = 0, odometry_rejected = 0, ranges_accepted = 0, ranges_rejected = 0;
+    std::string last_rejection;
+    std::vector<std::string> keys;
+    std::vector<double> values;
+  };
+  virtual Status status() = 0;
+  // Marks the instance failed from outside (e.g. the host caught something).
+  virtual void markFailed(const std::string& error) = 0;
+};
+
+}  // namespace runtime
+}  // namespace roam
