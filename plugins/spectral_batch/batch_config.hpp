@@ -60,6 +60,24 @@ struct SpectralBatchConfig {
   // ranges).
   bool estimate_range_scale = true;
   bool estimate_range_offset = true;
+  // Prior sigma of the range scale about 1 (0, the default: none). The distance scale of the
+  // odometry is held at 1 where no beacon is fixed and the range scale is free (they would trade
+  // off with the map's size), so no prior is needed to keep the scale; > 0 for a radio or sound
+  // speed known to that fraction.
+  double range_scale_sigma = 0.0;
+
+  // Odometry calibration (estimation::OdometryCalibration) as two more unknowns of the problem,
+  // with Gaussian priors from the sensors: a heading-rate bias b (rad/s; a MEMS gyro's bias is
+  // up to ~0.5 deg/s ~ 0.01 rad/s, so sigma 0.01) and a distance scale s (wheel radius or a DVL's
+  // scale, a few percent: sigma 0.05). They cost nothing where there is no bias (the prior holds
+  // them at 1 and 0 to within what the ranges can tell). false: held at s = 1, b = 0.
+  bool estimate_odometry_calibration = true;
+  double heading_rate_bias_sigma_rad_s = 0.01;
+  double distance_scale_sigma = 0.05;
+  // Per-beacon range offsets (on top of the shared one), each with a zero-mean prior of this
+  // sigma: acoustic beacons and UWB anchors have their own delays of a metre or two.
+  bool estimate_beacon_offsets = false;
+  double beacon_offset_sigma_m = 2.0;
 
   // Live mode: re-solve over all data so far every resolve_interval_s of data time, warm-started
   // from the previous solve (0: solve only at the end of input).
@@ -75,8 +93,6 @@ struct SpectralBatchConfig {
   double parameter_tolerance = 1e-10;
   int num_threads = 1;            // deterministic and polite on a shared machine
   bool verbose = false;           // the solver summary on stderr after every solve
-
-  // Odometry steps longer than this are rejected as jumps (same meaning as deadreckoning).
 };
 
 // The robust-loss scale actually used (loss_scale, or the loss's 95 %-efficiency constant).

@@ -5,9 +5,11 @@
 #include <exception>
 #include <iostream>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include "initial_guess.hpp"
+#include "roam/estimation/multilateration.hpp"
 #include "spectral_seed.hpp"
 
 namespace roam {
@@ -15,11 +17,6 @@ namespace {
 
 // A chord shorter than this speed times its window means the robot barely moved: no heading.
 constexpr double kMinSeedSpeed_mps = 0.1;
-
-std::array<double, 3> propagate(const std::array<double, 3>& pose, const Odometry& step) {
-  return {pose[0] + step.forward_m * std::cos(pose[2]),
-          pose[1] + step.forward_m * std::sin(pose[2]), pose[2] + step.delta_heading_rad};
-}
 
 Pose toPose(int64_t utime, const std::array<double, 3>& pose) {
   Pose out;
@@ -69,11 +66,12 @@ void SpectralBatchSlam::addOdometry(const Odometry& odometry) {
   }
   if (odometry.utime < pose_utime_.back()) return rejectOdometry("time went backwards");
   odometry_.push_back(odometry);
+  dt_s_.push_back(1e-6 * static_cast<double>(odometry.utime - pose_utime_.back()));
   pose_utime_.push_back(odometry.utime);
   acceptOdometry();
   if (spectral_) spectral_->addOdometry(odometry);
 
-  current_pose_ = propagate(current_pose_, odometry);
+  current_pose_ = batch::propagate(current_pose_, odometry, dt_s_.back(), odometryCalibration());
   emitPose(toPose(odometry.utime, current_pose_));
 
   if (config_.resolve_interval_s > 0.0 &&
@@ -112,7 +110,10 @@ std::vector<std::array<double, 3>> SpectralBatchSlam::initialPoses(bool final) {
   if (!solved_poses_.empty() && !reseed) {
     // Warm start: the previous solution, extended by odometry from its last pose.
     std::vector<std::array<double, 3>> poses = solved_poses_;
-    while (poses.size() < num_poses) poses.push_back(propagate(poses.back(), odometry_[poses.size() - 1]));
+    while (poses.size() < num_poses) {
+      const size_t k = poses.size() - 1;
+      poses.push_back(batch::propagate(poses.back(), odometry_[k], dt_s_[k], odometryCalibration()));
+    }
     return poses;
   }
   if (spectral_) {
@@ -153,7 +154,6 @@ std::vector<std::array<double, 3>> SpectralBatchSlam::initialPoses(bool final) {
         poses[0][2] += wrapAngle(start_pose_[2] - poses[0][2]);
         shifted_seed_m_ = {dx_m, dy_m};
       }
-      setDiagnostic("init_spectral", 1.0);
       seeded_by_spectral_ = true;
       return poses;
     }
@@ -164,28 +164,18 @@ std::vector<std::array<double, 3>> SpectralBatchSlam::initialPoses(bool final) {
   if (!solved_poses_.empty()) {
     // No spectral path after all: keep the warm start.
     std::vector<std::array<double, 3>> poses = solved_poses_;
-    while (poses.size() < num_poses) poses.push_back(propagate(poses.back(), odometry_[poses.size() - 1]));
+    while (poses.size() < num_poses) {
+      const size_t k = poses.size() - 1;
+      poses.push_back(batch::propagate(poses.back(), odometry_[k], dt_s_[k], odometryCalibration()));
+    }
     return poses;
   }
-  setDiagnostic("init_spectral", 0.0);
-  return batch::deadReckon(start_pose_, odometry_);
+  return batch::deadReckon(start_pose_, odometry_, dt_s_, odometryCalibration());
 }
 
-void SpectralBatchSlam::solveNow(bool final) {
-  const size_t num_poses = pose_utime_.size();
-  std::vector<std::array<double, 3>> poses = initialPoses(final);
-  Map spectral_map;
-  const bool fresh_seed = seeded_by_spectral_ && !spectral_map_taken_;
-  const bool seeded_by_spectral = fresh_seed && spectral_->takeMap(&spectral_map);
-  if (fresh_seed) spectral_map_taken_ = true;
-
+std::vector<SpectralBatchSlam::Tie> SpectralBatchSlam::tieRanges(bool final) const {
   // Tie every range to the pose chain (see the header): pose k and alpha along step k.
-  struct Tied {
-    int pose;
-    double alpha;
-    const Range* range;
-  };
-  std::vector<Tied> tied;
+  std::vector<Tie> tied;
   tied.reserve(ranges_.size());
   for (const Range& range : ranges_) {
     const auto after = std::upper_bound(pose_utime_.begin(), pose_utime_.end(), range.utime);
@@ -202,20 +192,32 @@ void SpectralBatchSlam::solveNow(bool final) {
     const double alpha = step_us > 0.0 ? static_cast<double>(range.utime - pose_utime_[k]) / step_us : 0.0;
     tied.push_back({k, alpha, &range});
   }
-  auto positionAt = [&poses](const Tied& t) -> std::array<double, 2> {
+  return tied;
+}
+
+double SpectralBatchSlam::rangeSigma(const Range& range) const {
+  return range.sigma_m > 0.0 ? range.sigma_m : config_.range_sigma_m;
+}
+
+SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array<double, 3>> poses,
+                                                          const Map* seed_map, bool use_previous,
+                                                          bool fix_first_heading,
+                                                          const std::vector<Tie>& tied,
+                                                          bool evaluate_only) const {
+  auto positionAt = [&poses](const Tie& t) -> std::array<double, 2> {
     const auto& a = poses[t.pose];
     if (t.alpha == 0.0) return {a[0], a[1]};
     const auto& b = poses[t.pose + 1];
     return {a[0] + t.alpha * (b[0] - a[0]), a[1] + t.alpha * (b[1] - a[1])};
   };
 
-  // Beacon blocks: surveyed and fixed (anchor = beacons), the previous solve, the spectral map,
-  // or multilateration from the guessed path, in that order of preference.
+  // Beacon blocks: surveyed and fixed (anchor = beacons), the seed's map, the previous solve, or
+  // robust multilateration from the guessed path, in that order of preference.
   std::set<int> ids;
-  for (const Tied& t : tied) ids.insert(t.range->beacon_id);
-  batch::Problem problem;
-  batch::State state;
-  std::map<int, int> index_of;
+  for (const Tie& t : tied) ids.insert(t.range->beacon_id);
+  Candidate out;
+  batch::Problem& problem = out.problem;
+  batch::State& state = out.state;
   for (int id : ids) {
     std::array<double, 2> beacon{0.0, 0.0};
     bool have = false;
@@ -228,83 +230,159 @@ void SpectralBatchSlam::solveNow(bool final) {
         }
       }
     }
-    if (!have && seeded_by_spectral) {
-      for (const Beacon& b : spectral_map) {
+    if (!have && seed_map) {
+      for (const Beacon& b : *seed_map) {
         if (b.id == id && std::isfinite(b.x_m) && std::isfinite(b.y_m)) {
           beacon = {b.x_m + shifted_seed_m_[0], b.y_m + shifted_seed_m_[1]};
           have = true;
         }
       }
     }
-    if (!have && solved_beacons_.count(id)) {
+    if (!have && use_previous && solved_beacons_.count(id)) {
       beacon = solved_beacons_.at(id);
       have = true;
     }
     if (!have) {
       std::vector<std::array<double, 2>> positions_m;
       std::vector<double> ranges_m;
-      for (const Tied& t : tied) {
+      double sigma_m = 0.0;
+      for (const Tie& t : tied) {
         if (t.range->beacon_id != id) continue;
         positions_m.push_back(positionAt(t));
         ranges_m.push_back(t.range->range_m);
+        sigma_m += rangeSigma(*t.range);
       }
-      have = batch::multilaterate(positions_m, ranges_m, &beacon);
+      if (!positions_m.empty()) sigma_m /= static_cast<double>(positions_m.size());
+      // The path is a guess: its error adds to the range noise (odometry drift of metres).
+      estimation::RobustMultilateration robust;
+      have = estimation::multilaterateRobust(positions_m, ranges_m, std::max(sigma_m, 1.0), &robust);
+      if (have) beacon = robust.beacon_m;
     }
     if (!have) continue;  // not yet observable: its ranges wait for a later solve
-    index_of[id] = static_cast<int>(state.beacons.size());
+    out.index_of[id] = static_cast<int>(state.beacons.size());
     state.beacons.push_back(beacon);
+    state.beacon_offsets_m.push_back(use_previous && beacon_offsets_m_.count(id) ? beacon_offsets_m_.at(id) : 0.0);
     problem.beacon_fixed.push_back(fixed);
   }
-  for (const Tied& t : tied) {
-    const auto found = index_of.find(t.range->beacon_id);
-    if (found == index_of.end()) continue;
+  for (const Tie& t : tied) {
+    const auto found = out.index_of.find(t.range->beacon_id);
+    if (found == out.index_of.end()) continue;
     batch::RangeObservation observation;
     observation.pose = t.pose;
     observation.alpha = t.alpha;
     observation.beacon = found->second;
     observation.range_m = t.range->range_m;
-    observation.sigma_m = t.range->sigma_m > 0.0 ? t.range->sigma_m : config_.range_sigma_m;
+    observation.sigma_m = rangeSigma(*t.range);
     problem.ranges.push_back(observation);
   }
   problem.odometry = odometry_;
+  problem.dt_s = dt_s_;
   problem.fix_first_pose = config_.anchor == "start_pose";
+  problem.fix_first_heading = fix_first_heading;
+  state.poses = std::move(poses);
+  if (use_previous) {
+    state.calibration = calibration_;
+    state.odometry_calibration = odometry_calibration_;
+  }
+  out.summary = batch::solve(config_, problem, &state, evaluate_only);
+  return out;
+}
+
+void SpectralBatchSlam::solveNow(bool final) {
+  const size_t num_poses = pose_utime_.size();
+  std::vector<std::array<double, 3>> poses = initialPoses(final);
+  Map spectral_map;
+  const bool fresh_seed = seeded_by_spectral_ && !spectral_map_taken_;
+  const bool seeded_by_spectral = fresh_seed && spectral_->takeMap(&spectral_map);
+  if (fresh_seed) spectral_map_taken_ = true;
+  const std::vector<Tie> tied = tieRanges(final);
+
   // A spectral seed already carries the frame's rotation, fitted by the spectral core to the start
   // pose and the first align_m of odometry (least squares over ~50 m, insensitive to the heading
   // at a standing start). Pinning the single pose-0 heading instead lets early odometry heading
   // errors (a 2 % turn error is degrees) rotate the whole solution about the start: on Plaza 1
   // the pinned optimum is rotated ~6 deg, metres at the far end. So with a spectral seed only the
   // start position is fixed and the rotation gauge stays where the seed put it.
-  problem.fix_first_heading = !seeded_by_spectral_;
-  state.poses = std::move(poses);
-  state.calibration = calibration_;
-
-  summary_ = batch::solve(config_, problem, &state);
+  Candidate best = solveFrom(std::move(poses), seeded_by_spectral ? &spectral_map : nullptr,
+                             !seeded_by_spectral, !seeded_by_spectral_, tied, false);
+  bool from_spectral = seeded_by_spectral_;
+  if (final) {
+    // The odometry-alone hypothesis: dead reckoning, beacons multilaterated (robustly) from it,
+    // evaluated with the final loss. Then the solve from it (init = deadreckoning); with a spectral
+    // seed both are solved and the lower robust cost is kept (a seed dragged by outliers loses).
+    const std::vector<std::array<double, 3>> dr = batch::deadReckon(start_pose_, odometry_, dt_s_);
+    const Candidate alone = solveFrom(dr, nullptr, false, true, tied, true);
+    odometry_alone_cost_ = alone.summary.final_cost;
+    if (from_spectral) {
+      Candidate from_dr = solveFrom(dr, nullptr, false, true, tied, false);
+      if (config_.verbose)
+        std::cerr << "spectral_batch: final cost from the spectral seed " << best.summary.final_cost
+                  << ", from dead reckoning " << from_dr.summary.final_cost << "\n";
+      if (from_dr.summary.usable &&
+          (!best.summary.usable || from_dr.summary.final_cost < best.summary.final_cost)) {
+        best = std::move(from_dr);
+        from_spectral = false;
+      }
+    }
+    setDiagnostic("odometry_alone_cost", odometry_alone_cost_);
+  }
+  setDiagnostic("init_spectral", from_spectral ? 1.0 : 0.0);
+  summary_ = best.summary;
+  const batch::Problem& problem = best.problem;
+  batch::State& state = best.state;
   ++solves_;
   if (config_.verbose) {
     std::cerr << "spectral_batch: solve " << solves_ << " over " << num_poses << " poses, "
               << problem.ranges.size() << " ranges, " << state.beacons.size() << " beacons: "
               << summary_.iterations << " iterations, cost " << summary_.initial_cost << " -> "
-              << summary_.final_cost << ", " << summary_.time_s << " s, range scale "
-              << state.calibration[0] << ", offset " << state.calibration[1] << " m\n"
+              << summary_.final_cost << " (odometry " << summary_.odometry_cost << ", ranges "
+              << summary_.range_cost << ", " << summary_.range_inliers << " inliers), " << summary_.time_s
+              << " s, range scale " << state.calibration[0] << ", offset " << state.calibration[1]
+              << " m, distance scale " << state.odometry_calibration[0] << ", heading-rate bias "
+              << state.odometry_calibration[1] << " rad/s\n"
               << summary_.report;
   }
   setDiagnostic("solves", solves_);
   setDiagnostic("solver_iterations", summary_.iterations);
   setDiagnostic("solver_stages", summary_.stages);
+  setDiagnostic("solver_converged", summary_.converged ? 1.0 : 0.0);
   setDiagnostic("solver_initial_cost", summary_.initial_cost);
   setDiagnostic("solver_final_cost", summary_.final_cost);
+  setDiagnostic("solver_odometry_cost", summary_.odometry_cost);
+  setDiagnostic("solver_range_cost", summary_.range_cost);
   setDiagnostic("solver_time_s", summary_.time_s);
   setDiagnostic("ranges_used", static_cast<double>(problem.ranges.size()));
+  setDiagnostic("ranges_inliers", static_cast<double>(summary_.range_inliers));
   if (!summary_.usable) {
     setState(EstimatorState::kFailed);
     throw std::runtime_error("spectral_batch: the Ceres solve failed: " + summary_.report);
   }
+  if (final && summary_.final_cost > odometry_alone_cost_ * (1.0 + 1e-9) + 1e-9) {
+    // Ranges and odometry together explain the data worse than odometry alone: a wrong basin.
+    setState(EstimatorState::kFailed);
+    std::ostringstream why;
+    why << "spectral_batch: the solve ended at robust cost " << summary_.final_cost
+        << ", above odometry alone (" << odometry_alone_cost_
+        << "): no solution (check range_sigma_m, the odometry noise keys and loss)";
+    throw std::runtime_error(why.str());
+  }
+  if (!summary_.converged && config_.verbose)
+    std::cerr << "spectral_batch: the last stage stopped at max_iterations (" << config_.max_iterations
+              << ") before converging\n";
 
   solved_poses_ = std::move(state.poses);
-  for (const auto& [id, index] : index_of) solved_beacons_[id] = state.beacons[index];
+  for (const auto& [id, index] : best.index_of) {
+    solved_beacons_[id] = state.beacons[index];
+    beacon_offsets_m_[id] = state.beacon_offsets_m[index];
+    if (config_.estimate_beacon_offsets)
+      setDiagnostic("beacon_offset_m_" + std::to_string(id), state.beacon_offsets_m[index]);
+  }
   calibration_ = state.calibration;
+  odometry_calibration_ = state.odometry_calibration;
   setDiagnostic("range_scale", calibration_[0]);
   setDiagnostic("range_offset_m", calibration_[1]);
+  setDiagnostic("odometry_distance_scale", odometry_calibration_[0]);
+  setDiagnostic("heading_rate_bias_rad_s", odometry_calibration_[1]);
   current_pose_ = solved_poses_.back();
   last_solve_utime_ = pose_utime_.back();
   new_solution_ = true;
@@ -328,7 +406,9 @@ Path SpectralBatchSlam::currentPath() const {
   path.reserve(pose_utime_.size());
   std::array<double, 3> pose = solved_poses_.empty() ? start_pose_ : solved_poses_[0];
   for (size_t k = 0; k < pose_utime_.size(); ++k) {
-    if (k > 0) pose = k < solved_poses_.size() ? solved_poses_[k] : propagate(pose, odometry_[k - 1]);
+    if (k > 0)
+      pose = k < solved_poses_.size() ? solved_poses_[k]
+                                      : batch::propagate(pose, odometry_[k - 1], dt_s_[k - 1], odometryCalibration());
     path.push_back(toPose(pose_utime_[k], pose));
   }
   return path;
