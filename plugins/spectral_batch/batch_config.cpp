@@ -38,6 +38,15 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
   o.add("heading_rate_bias_sigma_rad_s", &c->heading_rate_bias_sigma_rad_s,
         "prior sigma of the heading-rate bias (rad/s)").min(0.0, false);
   o.add("distance_scale_sigma", &c->distance_scale_sigma, "prior sigma of the odometry distance scale").min(0.0, false);
+  o.add("estimate_noise_scale", &c->estimate_noise_scale,
+        "widen the odometry and range noise by the residuals' RMS where the stated noise is too small");
+  o.add("estimate_range_noise_scale", &c->estimate_range_noise_scale,
+        "also widen the range noise by the inliers' RMS residual");
+  o.add("range_offset_sigma_m", &c->range_offset_sigma_m, "prior sigma of the shared range offset (0: none)").min(0.0);
+  o.add("start_pose_sigma_m", &c->start_pose_sigma_m, "anchor = beacons: prior sigma of pose 0 at INITIAL_POSE (0: none)").min(0.0);
+  o.add("start_heading_sigma_rad", &c->start_heading_sigma_rad, "anchor = beacons: prior heading sigma of pose 0").min(0.0, false);
+  o.add("gauge_align_m", &c->gauge_align_m,
+        "anchor = start_pose: align the final rotation to calibrated odometry over this much travel (0: off)").min(0.0);
   o.add("estimate_beacon_offsets", &c->estimate_beacon_offsets, "estimate a range offset per beacon");
   o.add("beacon_offset_sigma_m", &c->beacon_offset_sigma_m, "prior sigma of each beacon's range offset").min(0.0, false);
   o.add("range_scale_sigma", &c->range_scale_sigma, "prior sigma of the range scale about 1 (0: none)").min(0.0);

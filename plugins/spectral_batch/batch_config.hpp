@@ -31,6 +31,22 @@ struct SpectralBatchConfig {
   // heading drifts ~0.01 rad/sqrt(m) * sqrt(5 m) ~ 0.02 rad inside the window. 0: spectral headings.
   double seed_heading_align_m = 10.0;
 
+  // anchor = beacons: INITIAL_POSE as a prior on pose 0 with these sigmas (0: none, pose 0 free).
+  // With far beacons all on one side (an AUV's acoustic net), a shift of the whole path away
+  // from them and a longer range offset are nearly the same fit; a start known to a metre (a GPS
+  // fix at the surface, a surveyed dock) and ~6 deg separates them. Where no INITIAL_POSE came,
+  // no prior.
+  double start_pose_sigma_m = 1.0;
+  double start_heading_sigma_rad = 0.1;
+
+  // anchor = start_pose, final solve: the rotation about the start (a gauge freedom when no beacon
+  // is surveyed) is set by aligning the solved path to the calibrated dead reckoning over this
+  // much travel from the start, as the spectral core sets its frame (its align_m, 50 m: long
+  // enough to average decimetre position noise to ~0.01 rad, short enough that odometry heading
+  // drift after calibration stays ~0.01 rad/sqrt(m) * sqrt(50 m) ~ 0.07 rad at its end and
+  // less on average). 0: the rotation the solve ends with (pose-0 heading or the seed's).
+  double gauge_align_m = 50.0;
+
   // Odometry noise per step (the same model and defaults as the ekf plugin, so estimators are
   // compared on equal terms): sigma_d = rel d + floor along the track;
   // sigma_dtheta^2 = (rel_turn |dtheta|)^2 + per_sqrt_m^2 d + floor^2 (a heading random walk of
@@ -65,6 +81,10 @@ struct SpectralBatchConfig {
   // off with the map's size), so no prior is needed to keep the scale; > 0 for a radio or sound
   // speed known to that fraction.
   double range_scale_sigma = 0.0;
+  // Prior sigma of the shared range offset about 0 (0: none): radio antenna delays and acoustic
+  // turn-around times are decimetres to a couple of metres; 2 m keeps heavy one-sided outliers
+  // (NLOS is always long) from dragging the offset to tens of metres.
+  double range_offset_sigma_m = 2.0;
 
   // Odometry calibration (estimation::OdometryCalibration) as two more unknowns of the problem,
   // with Gaussian priors from the sensors: a heading-rate bias b (rad/s; a MEMS gyro's bias is
@@ -74,6 +94,15 @@ struct SpectralBatchConfig {
   bool estimate_odometry_calibration = true;
   double heading_rate_bias_sigma_rad_s = 0.01;
   double distance_scale_sigma = 0.05;
+  // Noise scales estimated from the residuals: after a solve, the RMS whitened odometry residual
+  // and the RMS whitened residual of the range inliers (within 3 loss scales) should be ~1; where
+  // one is k > 1, every sigma of that group is widened by k and the solve repeated (up to 4
+  // times). The configured (or reported) noise is the floor: never narrowed. A log's stated noise
+  // is often its generator's setting, not the sensor's (GOATS: 2 cm per edge for odometry good to
+  // a metre). false: the configured noise as it is.
+  bool estimate_noise_scale = true;
+  bool estimate_range_noise_scale = false;
+
   // Per-beacon range offsets (on top of the shared one), each with a zero-mean prior of this
   // sigma: acoustic beacons and UWB anchors have their own delays of a metre or two.
   bool estimate_beacon_offsets = false;

@@ -27,15 +27,33 @@ struct ScalarPrior {
   double mean, sigma;
 };
 
-// (calibration[0] - 1) / sigma: the range scale's prior (the offset stays free).
-struct ScalePrior {
-  explicit ScalePrior(double sigma) : sigma(sigma) {}
+// (pose - mean) / sigma, heading wrapped.
+struct PosePrior {
+  PosePrior(const std::array<double, 3>& mean, const std::array<double, 3>& sigma) : mean(mean), sigma(sigma) {}
   template <typename T>
-  bool operator()(const T* c, T* residual) const {
-    residual[0] = (c[0] - 1.0) / sigma;
+  bool operator()(const T* pose, T* residual) const {
+    using std::atan2;
+    using std::cos;
+    using std::sin;
+    residual[0] = (pose[0] - mean[0]) / sigma[0];
+    residual[1] = (pose[1] - mean[1]) / sigma[1];
+    const T heading_error = pose[2] - mean[2];
+    residual[2] = atan2(sin(heading_error), cos(heading_error)) / sigma[2];
     return true;
   }
-  double sigma;
+  std::array<double, 3> mean, sigma;
+};
+
+// (calibration[index] - mean) / sigma: a prior on the range scale (index 0) or offset (1).
+struct CalibrationPrior {
+  CalibrationPrior(int index, double mean, double sigma) : index(index), mean(mean), sigma(sigma) {}
+  template <typename T>
+  bool operator()(const T* c, T* residual) const {
+    residual[0] = (c[index] - mean) / sigma;
+    return true;
+  }
+  int index;
+  double mean, sigma;
 };
 
 std::unique_ptr<ceres::LossFunction> makeLoss(const std::string& name, double scale) {
@@ -101,16 +119,19 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
   ceres::Problem ceres_problem(problem_options);
 
   double* odometry_calibration = state->odometry_calibration.data();
+  std::vector<ceres::ResidualBlockId> odometry_blocks;
+  odometry_blocks.reserve(problem.odometry.size());
   for (size_t k = 0; k < problem.odometry.size(); ++k) {
     const Odometry& odometry = problem.odometry[k];
     const double dt_s = k < problem.dt_s.size() ? problem.dt_s[k] : 0.0;
     // Whitening: Sigma^-1 = L L^T with L = chol(Sigma^-1); the residual is L^T e.
     const Eigen::Matrix3d information = odometryCovariance(config, odometry, dt_s).inverse();
-    const Eigen::Matrix3d sqrt_information = Eigen::LLT<Eigen::Matrix3d>(information).matrixU();
-    ceres_problem.AddResidualBlock(
+    const Eigen::Matrix3d sqrt_information =
+        Eigen::Matrix3d(Eigen::LLT<Eigen::Matrix3d>(information).matrixU()) / problem.odometry_sigma_factor;
+    odometry_blocks.push_back(ceres_problem.AddResidualBlock(
         OdometryResidual::create(Eigen::Vector3d(odometry.forward_m, odometry.lateral_m, odometry.delta_heading_rad),
                                  dt_s, sqrt_information),
-        nullptr, state->poses[k].data(), state->poses[k + 1].data(), odometry_calibration);
+        nullptr, state->poses[k].data(), state->poses[k + 1].data(), odometry_calibration));
   }
   const bool calibrate_odometry = config.estimate_odometry_calibration && !problem.odometry.empty();
   if (calibrate_odometry)
@@ -145,16 +166,22 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     double* beacon = state->beacons[range.beacon].data();
     double* beacon_offset = &state->beacon_offsets_m[range.beacon];
     if (range.alpha == 0.0 || static_cast<size_t>(range.pose) + 1 == num_poses) {
-      range_blocks.push_back(ceres_problem.AddResidualBlock(RangeAtPoseResidual::create(range.range_m, range.sigma_m),
+      range_blocks.push_back(ceres_problem.AddResidualBlock(RangeAtPoseResidual::create(range.range_m, range.sigma_m * problem.range_sigma_factor),
                                      range_loss, state->poses[range.pose].data(), beacon,
                                      calibration, beacon_offset));
     } else {
       range_blocks.push_back(ceres_problem.AddResidualBlock(
-          RangeAlongStepResidual::create(range.range_m, range.sigma_m, range.alpha), range_loss,
+          RangeAlongStepResidual::create(range.range_m, range.sigma_m * problem.range_sigma_factor, range.alpha), range_loss,
           state->poses[range.pose].data(), state->poses[range.pose + 1].data(), beacon,
           calibration, beacon_offset));
     }
   }
+
+  if (!problem.fix_first_pose && num_poses > 0 && problem.start_prior_sigma[0] > 0.0 &&
+      problem.start_prior_sigma[1] > 0.0 && problem.start_prior_sigma[2] > 0.0)
+    ceres_problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PosePrior, 3, 3>(
+                                       new PosePrior(problem.start_prior_pose, problem.start_prior_sigma)),
+                                   nullptr, state->poses[0].data());
 
   // Gauge and calibration.
   if (problem.fix_first_pose && num_poses > 0) {
@@ -176,11 +203,14 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
       ceres_problem.SetParameterBlockConstant(offset);
   }
   if (!problem.ranges.empty() && config.estimate_range_scale && config.range_scale_sigma > 0.0) {
-    // Only the scale (the offset stays free).
-    ceres_problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<ScalePrior, 1, 2>(new ScalePrior(config.range_scale_sigma)), nullptr,
-        calibration);
+    ceres_problem.AddResidualBlock(new ceres::AutoDiffCostFunction<CalibrationPrior, 1, 2>(
+                                       new CalibrationPrior(0, 1.0, config.range_scale_sigma)),
+                                   nullptr, calibration);
   }
+  if (!problem.ranges.empty() && config.estimate_range_offset && config.range_offset_sigma_m > 0.0)
+    ceres_problem.AddResidualBlock(new ceres::AutoDiffCostFunction<CalibrationPrior, 1, 2>(
+                                       new CalibrationPrior(1, 0.0, config.range_offset_sigma_m)),
+                                   nullptr, calibration);
   if (!problem.ranges.empty()) {
     if (!config.estimate_range_scale && !config.estimate_range_offset) {
       ceres_problem.SetParameterBlockConstant(calibration);
@@ -258,9 +288,18 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     double raw_cost = 0.0;
     ceres_problem.EvaluateResidualBlock(id, false, &raw_cost, &residual, nullptr);  // the residual itself
     summary.range_cost += cost;
-    if (!robust || std::abs(residual) <= 3.0 * final_scale_used) ++summary.range_inliers;
+    if (!robust || std::abs(residual) <= 3.0 * final_scale_used) {
+      ++summary.range_inliers;
+      summary.range_inlier_squares += residual * residual;
+    }
   }
   summary.odometry_cost = summary.final_cost - summary.range_cost;
+  for (ceres::ResidualBlockId id : odometry_blocks) {
+    double cost = 0.0;
+    ceres_problem.EvaluateResidualBlock(id, false, &cost, nullptr, nullptr);
+    summary.odometry_squares += 2.0 * cost;
+  }
+  summary.odometry_residuals = 3 * static_cast<int>(odometry_blocks.size());
   return summary;
 }
 

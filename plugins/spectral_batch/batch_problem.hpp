@@ -40,6 +40,13 @@ struct Problem {
   // gauge freedom (every residual is invariant under it when no beacon is fixed), so the solve
   // keeps the rotation of its initial guess.
   bool fix_first_heading = true;
+  // Every odometry sigma and every range sigma times these (noise scales estimated from the
+  // residuals where the stated noise is too small).
+  // anchor = beacons: a prior on pose 0 from INITIAL_POSE (sigmas x, y, heading; 0: none).
+  std::array<double, 3> start_prior_pose{0.0, 0.0, 0.0};
+  std::array<double, 3> start_prior_sigma{0.0, 0.0, 0.0};
+  double odometry_sigma_factor = 1.0;
+  double range_sigma_factor = 1.0;
 };
 
 // The unknowns, also the initial guess.
@@ -65,6 +72,9 @@ struct Summary {
   double odometry_cost = 0.0;
   double range_cost = 0.0;
   int range_inliers = 0;
+  double range_inlier_squares = 0.0;  // sum of the inliers' whitened residuals squared
+  double odometry_squares = 0.0;      // sum of the odometry residuals squared (no priors)
+  int odometry_residuals = 0;
   std::string report;           // Ceres' brief reports, one line per stage
 };
 

@@ -17,6 +17,10 @@ namespace {
 
 // A chord shorter than this speed times its window means the robot barely moved: no heading.
 constexpr double kMinSeedSpeed_mps = 0.1;
+// Noise-scale estimation: at most this many re-solves, stopping when no scale moves by more
+// than this fraction.
+constexpr int kNoiseScaleRounds = 4;
+constexpr double kNoiseScaleTolerance = 0.05;
 
 Pose toPose(int64_t utime, const std::array<double, 3>& pose) {
   Pose out;
@@ -49,6 +53,7 @@ void SpectralBatchSlam::start(const Pose& start_pose) {
 void SpectralBatchSlam::setInitialPose(const Pose& start_pose) {
   if (started_) return;  // the start is fixed once odometry has begun
   start(start_pose);
+  have_initial_pose_ = true;
   if (spectral_) spectral_->setInitialPose(start_pose);
 }
 
@@ -203,7 +208,9 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
                                                           const Map* seed_map, bool use_previous,
                                                           bool fix_first_heading,
                                                           const std::vector<Tie>& tied,
-                                                          bool evaluate_only) const {
+                                                          bool evaluate_only,
+                                                          const std::array<double, 2>& noise_factors,
+                                                          const std::array<double, 2>& odometry_calibration) const {
   auto positionAt = [&poses](const Tie& t) -> std::array<double, 2> {
     const auto& a = poses[t.pose];
     if (t.alpha == 0.0) return {a[0], a[1]};
@@ -279,13 +286,149 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
   problem.dt_s = dt_s_;
   problem.fix_first_pose = config_.anchor == "start_pose";
   problem.fix_first_heading = fix_first_heading;
+  if (have_initial_pose_ && config_.anchor == "beacons" && config_.start_pose_sigma_m > 0.0) {
+    problem.start_prior_pose = start_pose_;
+    problem.start_prior_sigma = {config_.start_pose_sigma_m, config_.start_pose_sigma_m,
+                                 config_.start_heading_sigma_rad};
+  }
   state.poses = std::move(poses);
+  state.odometry_calibration = odometry_calibration;
   if (use_previous) {
     state.calibration = calibration_;
     state.odometry_calibration = odometry_calibration_;
   }
+  problem.odometry_sigma_factor = noise_factors[0];
+  problem.range_sigma_factor = noise_factors[1];
   out.summary = batch::solve(config_, problem, &state, evaluate_only);
+  // Noise scales from the residuals (a variance-component estimate, only ever widening the
+  // configured noise): the odometry's RMS whitened residual and the range inliers' RMS whitened
+  // residual should be ~1; where they are k > 1 the stated noise was too small by k (a file
+  // that states 2 cm per odometry edge good to a metre; 0.75 m ranges that scatter by 2 m), and
+  // the solve is repeated, warm-started, with every sigma of that group times k.
+  for (int round = 0; round < kNoiseScaleRounds && !evaluate_only && config_.estimate_noise_scale; ++round) {
+    const batch::Summary& last = out.summary;
+    if (!last.usable) break;
+    const double k_odometry =
+        last.odometry_residuals > 0 ? std::sqrt(last.odometry_squares / last.odometry_residuals) : 1.0;
+    const double k_range = last.range_inliers > 0 ? std::sqrt(last.range_inlier_squares / last.range_inliers) : 1.0;
+    const double next_odometry = std::max(1.0, problem.odometry_sigma_factor * k_odometry);
+    const double next_range = config_.estimate_range_noise_scale ? std::max(1.0, problem.range_sigma_factor * k_range)
+                                                                 : problem.range_sigma_factor;
+    if (std::abs(next_odometry / problem.odometry_sigma_factor - 1.0) < kNoiseScaleTolerance &&
+        std::abs(next_range / problem.range_sigma_factor - 1.0) < kNoiseScaleTolerance)
+      break;
+    problem.odometry_sigma_factor = next_odometry;
+    problem.range_sigma_factor = next_range;
+    const int iterations = last.iterations;
+    out.summary = batch::solve(config_, problem, &state);
+    out.summary.iterations += iterations;
+  }
   return out;
+}
+
+void SpectralBatchSlam::alignRotationToOdometry(batch::State* state) {
+  // Rotation about pose 0 leaves every residual unchanged (no beacon is fixed): the gauge. It is
+  // set as the spectral core sets it: the rotation that best aligns (least squares) the solved
+  // positions over the first gauge_align_m of travel to the calibrated dead reckoning from the
+  // start pose. Calibrated: with the gyro bias removed, the first metres of odometry are better
+  // than one start heading, and far better than a spectral seed fitted to biased odometry.
+  std::vector<std::array<double, 3>>& poses = state->poses;
+  const estimation::OdometryCalibration calibration{state->odometry_calibration[0], state->odometry_calibration[1]};
+  const std::vector<std::array<double, 3>> dr = batch::deadReckon(start_pose_, odometry_, dt_s_, calibration);
+  double dot = 0.0, cross = 0.0, travelled_m = 0.0;
+  for (size_t k = 1; k < poses.size() && travelled_m <= config_.gauge_align_m; ++k) {
+    travelled_m += std::hypot(odometry_[k - 1].forward_m, odometry_[k - 1].lateral_m);
+    const double px = poses[k][0] - poses[0][0], py = poses[k][1] - poses[0][1];
+    const double dx = dr[k][0] - dr[0][0], dy = dr[k][1] - dr[0][1];
+    dot += px * dx + py * dy;
+    cross += px * dy - py * dx;
+  }
+  if (travelled_m < 0.5 * config_.gauge_align_m || std::hypot(dot, cross) <= 0.0) return;
+  const double angle_rad = std::atan2(cross, dot);
+  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
+  const double ox = poses[0][0], oy = poses[0][1];
+  auto rotate = [&](double* x, double* y) {
+    const double rx = *x - ox, ry = *y - oy;
+    *x = ox + c * rx - s * ry;
+    *y = oy + s * rx + c * ry;
+  };
+  for (auto& pose : poses) {
+    rotate(&pose[0], &pose[1]);
+    pose[2] += angle_rad;
+  }
+  for (auto& beacon : state->beacons) rotate(&beacon[0], &beacon[1]);
+  setDiagnostic("gauge_rotation_rad", angle_rad);
+}
+
+double SpectralBatchSlam::scanHeadingRateBias(const std::vector<Tie>& tied) const {
+  // Robust range cost of dead reckoning with bias b, beacons surveyed (anchor = beacons) or
+  // robustly multilaterated from that path; Cauchy at the loss's scale over the range sigma.
+  const double c = 2.385;
+  auto score = [&](double bias_rad_s) {
+    const std::vector<std::array<double, 3>> poses =
+        batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
+    std::map<int, std::vector<std::array<double, 2>>> positions;
+    std::map<int, std::vector<double>> ranges;
+    std::map<int, double> sigma;
+    for (const Tie& t : tied) {
+      const auto& a = poses[t.pose];
+      std::array<double, 2> p{a[0], a[1]};
+      if (t.alpha != 0.0) {
+        const auto& b = poses[t.pose + 1];
+        p = {a[0] + t.alpha * (b[0] - a[0]), a[1] + t.alpha * (b[1] - a[1])};
+      }
+      positions[t.range->beacon_id].push_back(p);
+      ranges[t.range->beacon_id].push_back(t.range->range_m);
+      sigma[t.range->beacon_id] = rangeSigma(*t.range);
+    }
+    double cost = 0.0;
+    for (const auto& [id, ps] : positions) {
+      const Beacon* surveyed = nullptr;
+      if (config_.anchor == "beacons")
+        for (const Beacon& b : surveyed_)
+          if (b.id == id) surveyed = &b;
+      if (surveyed) {
+        for (size_t i = 0; i < ps.size(); ++i) {
+          const double r = (std::hypot(surveyed->x_m - ps[i][0], surveyed->y_m - ps[i][1]) - ranges[id][i]) /
+                           (sigma[id] * c);
+          cost += 0.5 * c * c * std::log1p(r * r);
+        }
+      } else {
+        estimation::RobustMultilateration robust;
+        if (estimation::multilaterateRobust(ps, ranges[id], sigma[id], &robust)) cost += robust.cost;
+        else cost += 0.5 * c * c * std::log1p(1e6) * static_cast<double>(ps.size());  // unobservable: worst
+      }
+    }
+    return cost;
+  };
+  // Coarse to fine over +-3 prior sigmas: 31 points, then 2 refinements of 21 points each.
+  const double span = 3.0 * config_.heading_rate_bias_sigma_rad_s;
+  double best = 0.0, best_cost = score(0.0);
+  double step = span / 15.0;
+  double centre = 0.0;
+  for (int level = 0; level < 3; ++level) {
+    const int half = level == 0 ? 15 : 10;
+    for (int i = -half; i <= half; ++i) {
+      const double b = centre + step * i;
+      if (b == 0.0) continue;
+      const double cost = score(b);
+      if (cost < best_cost) {
+        best_cost = cost;
+        best = b;
+      }
+    }
+    centre = best;
+    step /= 10.0;
+  }
+  return best;
+}
+
+double SpectralBatchSlam::costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const {
+  batch::Problem problem = candidate.problem;
+  batch::State state = candidate.state;
+  problem.odometry_sigma_factor = noise_factors[0];
+  problem.range_sigma_factor = noise_factors[1];
+  return batch::solve(config_, problem, &state, true).final_cost;
 }
 
 void SpectralBatchSlam::solveNow(bool final) {
@@ -304,28 +447,51 @@ void SpectralBatchSlam::solveNow(bool final) {
   // the pinned optimum is rotated ~6 deg, metres at the far end. So with a spectral seed only the
   // start position is fixed and the rotation gauge stays where the seed put it.
   Candidate best = solveFrom(std::move(poses), seeded_by_spectral ? &spectral_map : nullptr,
-                             !seeded_by_spectral, !seeded_by_spectral_, tied, false);
+                             !seeded_by_spectral, !seeded_by_spectral_, tied, false, noise_factors_,
+                             odometry_calibration_);
   bool from_spectral = seeded_by_spectral_;
+  std::array<double, 2> factors{best.problem.odometry_sigma_factor, best.problem.range_sigma_factor};
   if (final) {
-    // The odometry-alone hypothesis: dead reckoning, beacons multilaterated (robustly) from it,
-    // evaluated with the final loss. Then the solve from it (init = deadreckoning); with a spectral
-    // seed both are solved and the lower robust cost is kept (a seed dragged by outliers loses).
+    // The odometry-alone hypothesis: dead reckoning, beacons multilaterated (robustly) from it.
+    // Then the solve from it (init = deadreckoning); with a spectral seed both are solved and the
+    // lower robust cost, under the same (wider) noise scales, is kept: a seed dragged by
+    // outliers loses.
     const std::vector<std::array<double, 3>> dr = batch::deadReckon(start_pose_, odometry_, dt_s_);
-    const Candidate alone = solveFrom(dr, nullptr, false, true, tied, true);
-    odometry_alone_cost_ = alone.summary.final_cost;
-    if (from_spectral) {
-      Candidate from_dr = solveFrom(dr, nullptr, false, true, tied, false);
-      if (config_.verbose)
-        std::cerr << "spectral_batch: final cost from the spectral seed " << best.summary.final_cost
-                  << ", from dead reckoning " << from_dr.summary.final_cost << "\n";
-      if (from_dr.summary.usable &&
-          (!best.summary.usable || from_dr.summary.final_cost < best.summary.final_cost)) {
-        best = std::move(from_dr);
-        from_spectral = false;
+    // The dead-reckoning seed with the heading-rate bias that best explains the ranges (a scan):
+    // a gyro drift of 0.3 deg/s curls a 30-minute path into circles no local solve unwinds.
+    const double bias_rad_s = config_.estimate_odometry_calibration ? scanHeadingRateBias(tied) : 0.0;
+    setDiagnostic("heading_rate_bias_scan_rad_s", bias_rad_s);
+    const std::vector<std::array<double, 3>> dr_biased =
+        batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
+    if (from_spectral || bias_rad_s != 0.0) {
+      Candidate from_dr = solveFrom(dr_biased, nullptr, false, true, tied, false, noise_factors_, {1.0, bias_rad_s});
+      if (from_dr.summary.usable) {
+        const std::array<double, 2> common{
+            std::max(factors[0], from_dr.problem.odometry_sigma_factor),
+            std::max(factors[1], from_dr.problem.range_sigma_factor)};
+        const double cost_spectral = best.summary.usable ? costWithNoise(best, common) : HUGE_VAL;
+        const double cost_dr = costWithNoise(from_dr, common);
+        if (config_.verbose)
+          std::cerr << "spectral_batch: robust cost from the spectral seed " << cost_spectral
+                    << ", from dead reckoning " << cost_dr << " (noise scales " << common[0] << ", "
+                    << common[1] << ")\n";
+        if (cost_dr < cost_spectral) {
+          best = std::move(from_dr);
+          from_spectral = false;
+        }
       }
+      factors = {best.problem.odometry_sigma_factor, best.problem.range_sigma_factor};
     }
+    const Candidate alone = solveFrom(dr, nullptr, false, true, tied, true, factors, {1.0, 0.0});
+    odometry_alone_cost_ = alone.summary.final_cost;
+    best_cost_ = costWithNoise(best, factors);
     setDiagnostic("odometry_alone_cost", odometry_alone_cost_);
   }
+  if (final && config_.anchor == "start_pose" && config_.gauge_align_m > 0.0 && best.summary.usable)
+    alignRotationToOdometry(&best.state);
+  noise_factors_ = factors;
+  setDiagnostic("odometry_noise_scale", factors[0]);
+  setDiagnostic("range_noise_scale", factors[1]);
   setDiagnostic("init_spectral", from_spectral ? 1.0 : 0.0);
   summary_ = best.summary;
   const batch::Problem& problem = best.problem;
@@ -339,7 +505,8 @@ void SpectralBatchSlam::solveNow(bool final) {
               << summary_.range_cost << ", " << summary_.range_inliers << " inliers), " << summary_.time_s
               << " s, range scale " << state.calibration[0] << ", offset " << state.calibration[1]
               << " m, distance scale " << state.odometry_calibration[0] << ", heading-rate bias "
-              << state.odometry_calibration[1] << " rad/s\n"
+              << state.odometry_calibration[1] << " rad/s, noise scales odometry "
+              << best.problem.odometry_sigma_factor << ", range " << best.problem.range_sigma_factor << "\n"
               << summary_.report;
   }
   setDiagnostic("solves", solves_);
@@ -357,11 +524,11 @@ void SpectralBatchSlam::solveNow(bool final) {
     setState(EstimatorState::kFailed);
     throw std::runtime_error("spectral_batch: the Ceres solve failed: " + summary_.report);
   }
-  if (final && summary_.final_cost > odometry_alone_cost_ * (1.0 + 1e-9) + 1e-9) {
+  if (final && best_cost_ > odometry_alone_cost_ * (1.0 + 1e-9) + 1e-9) {
     // Ranges and odometry together explain the data worse than odometry alone: a wrong basin.
     setState(EstimatorState::kFailed);
     std::ostringstream why;
-    why << "spectral_batch: the solve ended at robust cost " << summary_.final_cost
+    why << "spectral_batch: the solve ended at robust cost " << best_cost_
         << ", above odometry alone (" << odometry_alone_cost_
         << "): no solution (check range_sigma_m, the odometry noise keys and loss)";
     throw std::runtime_error(why.str());

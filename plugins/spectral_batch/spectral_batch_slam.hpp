@@ -86,7 +86,17 @@ class SpectralBatchSlam : public Estimator {
   // beacons from the seed map, the previous solve (use_previous, also the calibrations) or
   // robust multilateration from the poses.
   Candidate solveFrom(std::vector<std::array<double, 3>> poses, const Map* seed_map, bool use_previous,
-                      bool fix_first_heading, const std::vector<Tie>& tied, bool evaluate_only) const;
+                      bool fix_first_heading, const std::vector<Tie>& tied, bool evaluate_only,
+                      const std::array<double, 2>& noise_factors,
+                      const std::array<double, 2>& odometry_calibration) const;
+  // The heading-rate bias whose dead reckoning best explains the ranges (robust cost), scanned
+  // over +-3 prior sigmas (coarse to fine).
+  double scanHeadingRateBias(const std::vector<Tie>& tied) const;
+  // anchor = start_pose: rotates the solution about pose 0 onto the calibrated odometry of the
+  // first gauge_align_m of travel (the rotation gauge).
+  void alignRotationToOdometry(batch::State* state);
+  // The candidate's cost (final loss) with these odometry and range noise scales.
+  double costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const;
   void solveNow(bool final);
   std::vector<std::array<double, 3>> initialPoses(bool final);
   Path currentPath() const;
@@ -94,6 +104,7 @@ class SpectralBatchSlam : public Estimator {
   SpectralBatchConfig config_;
   std::unique_ptr<Estimator> spectral_;  // the seed (init = spectral), fed every input
   bool started_ = false;
+  bool have_initial_pose_ = false;  // INITIAL_POSE came (not the origin by default)
   std::array<double, 3> start_pose_{0.0, 0.0, 0.0};  // world_T_robot at pose_utime_[0]
   Map surveyed_;
   std::vector<Odometry> odometry_;    // step k ends at pose_utime_[k + 1]
@@ -115,6 +126,8 @@ class SpectralBatchSlam : public Estimator {
   bool spectral_map_taken_ = false;
   int solves_ = 0;
   double odometry_alone_cost_ = 0.0;
+  double best_cost_ = 0.0;
+  std::array<double, 2> noise_factors_{1.0, 1.0};  // odometry, range: the latest estimate
   batch::Summary summary_;
 };
 
