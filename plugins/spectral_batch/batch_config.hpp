@@ -104,8 +104,10 @@ struct SpectralBatchConfig {
   bool estimate_range_noise_scale = false;
 
   // Per-beacon range offsets (on top of the shared one), each with a zero-mean prior of this
-  // sigma: acoustic beacons and UWB anchors have their own delays of a metre or two.
-  bool estimate_beacon_offsets = false;
+  // sigma: acoustic beacons and UWB anchors have their own delays (transponder turn-around,
+  // antenna delay) of up to a metre or two. On by default: it costs nothing on Plaza 1, where the
+  // prior holds them near 0, and takes up the per-beacon offsets that a shared offset cannot.
+  bool estimate_beacon_offsets = true;
   double beacon_offset_sigma_m = 2.0;
 
   // Live mode: re-solve over all data so far every resolve_interval_s of data time, warm-started
