@@ -1,11 +1,12 @@
 # roam's plugin SDK, installed: find_package(roam CONFIG REQUIRED) gives
 #   roam::sdk          the plugin SDK (roam/estimator.hpp, roam/plugin_shim.hpp, roam/options.hpp)
-#   roam::estimation   the shared estimation maths (roam/estimation/motion_model.hpp; needs Eigen)
+#   roam::estimation   the shared estimation maths (roam/estimation/*.hpp; needs Eigen and Ceres)
 #   roam_add_plugin(NAME <name> SOURCES <files> [LIBRARIES <libs>])
 #                      builds libroam_<name>.so, installed to <prefix>/lib/roam/plugins; roam-run
 #                      finds it through [runtime] plugin_path (the build folder, or that folder).
 include(CMakeFindDependencyMacro)
 find_dependency(Eigen3 3.3 NO_MODULE)
+find_dependency(Ceres)  # roam::estimation's robust multilateration
 include(${CMAKE_CURRENT_LIST_DIR}/roamTargets.cmake)
 
 function(roam_add_plugin)

@@ -33,6 +33,23 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
   o.add("loss_anneal_factor", &c->loss_anneal_factor, "loss scale ratio between annealing stages").min(1.0);
   o.add("estimate_range_scale", &c->estimate_range_scale, "estimate a shared range scale");
   o.add("estimate_range_offset", &c->estimate_range_offset, "estimate a shared range offset");
+  o.add("estimate_odometry_calibration", &c->estimate_odometry_calibration,
+        "estimate the odometry distance scale and heading-rate (gyro) bias");
+  o.add("heading_rate_bias_sigma_rad_s", &c->heading_rate_bias_sigma_rad_s,
+        "prior sigma of the heading-rate bias (rad/s)").min(0.0, false);
+  o.add("distance_scale_sigma", &c->distance_scale_sigma, "prior sigma of the odometry distance scale").min(0.0, false);
+  o.add("estimate_noise_scale", &c->estimate_noise_scale,
+        "widen the odometry and range noise by the residuals' RMS where the stated noise is too small");
+  o.add("estimate_range_noise_scale", &c->estimate_range_noise_scale,
+        "also widen the range noise by the inliers' RMS residual");
+  o.add("range_offset_sigma_m", &c->range_offset_sigma_m, "prior sigma of the shared range offset (0: none)").min(0.0);
+  o.add("start_pose_sigma_m", &c->start_pose_sigma_m, "anchor = beacons: prior sigma of pose 0 at INITIAL_POSE (0: none)").min(0.0);
+  o.add("start_heading_sigma_rad", &c->start_heading_sigma_rad, "anchor = beacons: prior heading sigma of pose 0").min(0.0, false);
+  o.add("gauge_align_m", &c->gauge_align_m,
+        "anchor = start_pose: align the final rotation to calibrated odometry over this much travel (0: off)").min(0.0);
+  o.add("estimate_beacon_offsets", &c->estimate_beacon_offsets, "estimate a range offset per beacon");
+  o.add("beacon_offset_sigma_m", &c->beacon_offset_sigma_m, "prior sigma of each beacon's range offset").min(0.0, false);
+  o.add("range_scale_sigma", &c->range_scale_sigma, "prior sigma of the range scale about 1 (0: none)").min(0.0);
   o.add("resolve_interval_s", &c->resolve_interval_s, "live re-solve interval of data time (0: at the end only)").min(0.0);
   o.add("linear_solver", &c->linear_solver, "Ceres linear solver")
       .oneOf({"sparse_normal_cholesky", "dense_qr", "sparse_schur", "iterative_schur", "cgnr"});
@@ -73,6 +90,10 @@ void validate(const SpectralBatchConfig& c) {
   if (!(c.loss_scale >= 0.0)) fail("loss_scale >= 0");
   if (c.loss_anneal_stages < 1 || c.loss_anneal_stages > 10) fail("loss_anneal_stages in [1, 10]");
   if (!(c.loss_anneal_factor >= 1.0)) fail("loss_anneal_factor >= 1");
+  if (!(c.heading_rate_bias_sigma_rad_s > 0.0)) fail("heading_rate_bias_sigma_rad_s > 0");
+  if (!(c.distance_scale_sigma > 0.0)) fail("distance_scale_sigma > 0");
+  if (!(c.beacon_offset_sigma_m > 0.0)) fail("beacon_offset_sigma_m > 0");
+  if (!(c.range_scale_sigma >= 0.0)) fail("range_scale_sigma >= 0");
   if (!(c.resolve_interval_s >= 0.0)) fail("resolve_interval_s >= 0");
   if (c.max_iterations < 1) fail("max_iterations >= 1");
   if (!(c.function_tolerance >= 0.0) || !(c.gradient_tolerance >= 0.0) || !(c.parameter_tolerance >= 0.0))

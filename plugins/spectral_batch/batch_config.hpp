@@ -31,6 +31,22 @@ struct SpectralBatchConfig {
   // heading drifts ~0.01 rad/sqrt(m) * sqrt(5 m) ~ 0.02 rad inside the window. 0: spectral headings.
   double seed_heading_align_m = 10.0;
 
+  // anchor = beacons: INITIAL_POSE as a prior on pose 0 with these sigmas (0: none, pose 0 free).
+  // With far beacons all on one side (an AUV's acoustic net), a shift of the whole path away
+  // from them and a longer range offset are nearly the same fit; a start known to a metre (a GPS
+  // fix at the surface, a surveyed dock) and ~6 deg separates them. Where no INITIAL_POSE came,
+  // no prior.
+  double start_pose_sigma_m = 1.0;
+  double start_heading_sigma_rad = 0.1;
+
+  // anchor = start_pose, final solve: the rotation about the start (a gauge freedom when no beacon
+  // is surveyed) is set by aligning the solved path to the calibrated dead reckoning over this
+  // much travel from the start, as the spectral core sets its frame (its align_m, 50 m: long
+  // enough to average decimetre position noise to ~0.01 rad, short enough that odometry heading
+  // drift after calibration stays ~0.01 rad/sqrt(m) * sqrt(50 m) ~ 0.07 rad at its end and
+  // less on average). 0: the rotation the solve ends with (pose-0 heading or the seed's).
+  double gauge_align_m = 50.0;
+
   // Odometry noise per step (the same model and defaults as the ekf plugin, so estimators are
   // compared on equal terms): sigma_d = rel d + floor along the track;
   // sigma_dtheta^2 = (rel_turn |dtheta|)^2 + per_sqrt_m^2 d + floor^2 (a heading random walk of
@@ -60,6 +76,39 @@ struct SpectralBatchConfig {
   // ranges).
   bool estimate_range_scale = true;
   bool estimate_range_offset = true;
+  // Prior sigma of the range scale about 1 (0, the default: none). The distance scale of the
+  // odometry is held at 1 where no beacon is fixed and the range scale is free (they would trade
+  // off with the map's size), so no prior is needed to keep the scale; > 0 for a radio or sound
+  // speed known to that fraction.
+  double range_scale_sigma = 0.0;
+  // Prior sigma of the shared range offset about 0 (0: none): radio antenna delays and acoustic
+  // turn-around times are decimetres to a couple of metres; 2 m keeps heavy one-sided outliers
+  // (NLOS is always long) from dragging the offset to tens of metres.
+  double range_offset_sigma_m = 2.0;
+
+  // Odometry calibration (estimation::OdometryCalibration) as two more unknowns of the problem,
+  // with Gaussian priors from the sensors: a heading-rate bias b (rad/s; a MEMS gyro's bias is
+  // up to ~0.5 deg/s ~ 0.01 rad/s, so sigma 0.01) and a distance scale s (wheel radius or a DVL's
+  // scale, a few percent: sigma 0.05). They cost nothing where there is no bias (the prior holds
+  // them at 1 and 0 to within what the ranges can tell). false: held at s = 1, b = 0.
+  bool estimate_odometry_calibration = true;
+  double heading_rate_bias_sigma_rad_s = 0.01;
+  double distance_scale_sigma = 0.05;
+  // Noise scales estimated from the residuals: after a solve, the RMS whitened odometry residual
+  // and the RMS whitened residual of the range inliers (within 3 loss scales) should be ~1; where
+  // one is k > 1, every sigma of that group is widened by k and the solve repeated (up to 4
+  // times). The configured (or reported) noise is the floor: never narrowed. A log's stated noise
+  // is often its generator's setting, not the sensor's (GOATS: 2 cm per edge for odometry good to
+  // a metre). false: the configured noise as it is.
+  bool estimate_noise_scale = true;
+  bool estimate_range_noise_scale = false;
+
+  // Per-beacon range offsets (on top of the shared one), each with a zero-mean prior of this
+  // sigma: acoustic beacons and UWB anchors have their own delays (transponder turn-around,
+  // antenna delay) of up to a metre or two. On by default: it costs nothing on Plaza 1, where the
+  // prior holds them near 0, and takes up the per-beacon offsets that a shared offset cannot.
+  bool estimate_beacon_offsets = true;
+  double beacon_offset_sigma_m = 2.0;
 
   // Live mode: re-solve over all data so far every resolve_interval_s of data time, warm-started
   // from the previous solve (0: solve only at the end of input).
@@ -75,8 +124,6 @@ struct SpectralBatchConfig {
   double parameter_tolerance = 1e-10;
   int num_threads = 1;            // deterministic and polite on a shared machine
   bool verbose = false;           // the solver summary on stderr after every solve
-
-  // Odometry steps longer than this are rejected as jumps (same meaning as deadreckoning).
 };
 
 // The robust-loss scale actually used (loss_scale, or the loss's 95 %-efficiency constant).

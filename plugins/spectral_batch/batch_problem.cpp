@@ -2,15 +2,59 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
 
+#include <Eigen/Cholesky>
+
 #include "batch_residuals.hpp"
+#include "roam/estimation/motion_model.hpp"
 
 namespace roam {
 namespace batch {
 namespace {
+
+// (x - mean) / sigma.
+struct ScalarPrior {
+  ScalarPrior(double mean, double sigma) : mean(mean), sigma(sigma) {}
+  template <typename T>
+  bool operator()(const T* x, T* residual) const {
+    residual[0] = (x[0] - mean) / sigma;
+    return true;
+  }
+  double mean, sigma;
+};
+
+// (pose - mean) / sigma, heading wrapped.
+struct PosePrior {
+  PosePrior(const std::array<double, 3>& mean, const std::array<double, 3>& sigma) : mean(mean), sigma(sigma) {}
+  template <typename T>
+  bool operator()(const T* pose, T* residual) const {
+    using std::atan2;
+    using std::cos;
+    using std::sin;
+    residual[0] = (pose[0] - mean[0]) / sigma[0];
+    residual[1] = (pose[1] - mean[1]) / sigma[1];
+    const T heading_error = pose[2] - mean[2];
+    residual[2] = atan2(sin(heading_error), cos(heading_error)) / sigma[2];
+    return true;
+  }
+  std::array<double, 3> mean, sigma;
+};
+
+// (calibration[index] - mean) / sigma: a prior on the range scale (index 0) or offset (1).
+struct CalibrationPrior {
+  CalibrationPrior(int index, double mean, double sigma) : index(index), mean(mean), sigma(sigma) {}
+  template <typename T>
+  bool operator()(const T* c, T* residual) const {
+    residual[0] = (c[index] - mean) / sigma;
+    return true;
+  }
+  int index;
+  double mean, sigma;
+};
 
 std::unique_ptr<ceres::LossFunction> makeLoss(const std::string& name, double scale) {
   if (name == "huber") return std::make_unique<ceres::HuberLoss>(scale);
@@ -31,7 +75,7 @@ ceres::LinearSolverType linearSolver(const std::string& name) {
 }  // namespace
 
 std::array<double, 3> odometrySigmas(const SpectralBatchConfig& c, const Odometry& odometry) {
-  const double d_m = std::abs(odometry.forward_m);
+  const double d_m = std::hypot(odometry.forward_m, odometry.lateral_m);
   const double along_m = c.odo_distance_sigma_rel * d_m + c.odo_distance_sigma_m;
   const double turn = c.odo_heading_sigma_rel * std::abs(odometry.delta_heading_rad);
   const double heading_rad =
@@ -41,7 +85,29 @@ std::array<double, 3> odometrySigmas(const SpectralBatchConfig& c, const Odometr
   return {along_m, lateral_m, heading_rad};
 }
 
-Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* state) {
+Eigen::Matrix3d odometryCovariance(const SpectralBatchConfig& config, const Odometry& odometry, double dt_s) {
+  const std::array<double, 3> sigma = odometrySigmas(config, odometry);
+  // incrementCovariance with the along-track and heading sigmas as its floor...
+  estimation::MotionNoise noise;
+  noise.distance_fraction = 0.0;
+  noise.heading_rad_per_m = 0.0;
+  noise.heading_rad_per_sqrt_s = 0.0;
+  noise.min_sigma_m = sigma[0];
+  noise.min_sigma_rad = sigma[2];
+  noise.use_reported_covariance = true;
+  Eigen::Matrix3d covariance = estimation::incrementCovariance(odometry, dt_s, noise);
+  // ... and the lateral one (a heading error moves the end of the step sideways) floored here.
+  const double lateral2 = sigma[1] * sigma[1];
+  if (covariance(1, 1) < lateral2) {
+    const double scale = std::sqrt(lateral2 / covariance(1, 1));
+    covariance.row(1) *= scale;
+    covariance.col(1) *= scale;
+  }
+  return covariance;
+}
+
+Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* state,
+              bool evaluate_only) {
   const size_t num_poses = state->poses.size();
   if (problem.odometry.size() + 1 != num_poses)
     throw std::invalid_argument("batch::solve: need one pose more than odometry steps");
@@ -52,36 +118,70 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem ceres_problem(problem_options);
 
+  double* odometry_calibration = state->odometry_calibration.data();
+  std::vector<ceres::ResidualBlockId> odometry_blocks;
+  odometry_blocks.reserve(problem.odometry.size());
   for (size_t k = 0; k < problem.odometry.size(); ++k) {
     const Odometry& odometry = problem.odometry[k];
-    const std::array<double, 3> sigma = odometrySigmas(config, odometry);
+    const double dt_s = k < problem.dt_s.size() ? problem.dt_s[k] : 0.0;
+    // Whitening: Sigma^-1 = L L^T with L = chol(Sigma^-1); the residual is L^T e.
+    const Eigen::Matrix3d information = odometryCovariance(config, odometry, dt_s).inverse();
+    const Eigen::Matrix3d sqrt_information =
+        Eigen::Matrix3d(Eigen::LLT<Eigen::Matrix3d>(information).matrixU()) / problem.odometry_sigma_factor;
+    odometry_blocks.push_back(ceres_problem.AddResidualBlock(
+        OdometryResidual::create(Eigen::Vector3d(odometry.forward_m, odometry.lateral_m, odometry.delta_heading_rad),
+                                 dt_s, sqrt_information),
+        nullptr, state->poses[k].data(), state->poses[k + 1].data(), odometry_calibration));
+  }
+  const bool calibrate_odometry = config.estimate_odometry_calibration && !problem.odometry.empty();
+  if (calibrate_odometry)
     ceres_problem.AddResidualBlock(
-        OdometryResidual::create(odometry.forward_m, odometry.delta_heading_rad, sigma[0],
-                                 sigma[1], sigma[2]),
-        nullptr, state->poses[k].data(), state->poses[k + 1].data());
+        OdometryCalibrationPrior::create(config.distance_scale_sigma, config.heading_rate_bias_sigma_rad_s),
+        nullptr, odometry_calibration);
+  else if (!problem.odometry.empty())
+    ceres_problem.SetParameterBlockConstant(odometry_calibration);
+  // The metric of the map: surveyed beacons, or else the odometry distances against the range
+  // scale. With no beacon fixed and the range scale estimated, the distance scale, the range scale
+  // and the map's size trade off freely (heavy outliers then shrink the map to a point): the
+  // distance scale is held at 1 there and the range scale carries the relative scale.
+  bool any_beacon_fixed = false;
+  for (bool fixed : problem.beacon_fixed) any_beacon_fixed = any_beacon_fixed || fixed;
+  if (calibrate_odometry && !any_beacon_fixed && config.estimate_range_scale) {
+    state->odometry_calibration[0] = 1.0;
+    ceres_problem.SetManifold(odometry_calibration, new ceres::SubsetManifold(2, {0}));
   }
   if (num_poses > 0) ceres_problem.AddParameterBlock(state->poses[0].data(), 3);
 
   // One loss shared by every range, re-scaled between annealing stages.
   ceres::LossFunctionWrapper loss(nullptr, ceres::TAKE_OWNERSHIP);
   ceres::LossFunction* range_loss = config.loss == "none" ? nullptr : &loss;
+  std::vector<ceres::ResidualBlockId> range_blocks;
+  range_blocks.reserve(problem.ranges.size());
   double* calibration = state->calibration.data();
+  state->beacon_offsets_m.resize(state->beacons.size(), 0.0);
   for (const RangeObservation& range : problem.ranges) {
     if (range.pose < 0 || static_cast<size_t>(range.pose) >= num_poses || range.beacon < 0 ||
         static_cast<size_t>(range.beacon) >= state->beacons.size())
       throw std::invalid_argument("batch::solve: range refers to a missing pose or beacon");
     double* beacon = state->beacons[range.beacon].data();
+    double* beacon_offset = &state->beacon_offsets_m[range.beacon];
     if (range.alpha == 0.0 || static_cast<size_t>(range.pose) + 1 == num_poses) {
-      ceres_problem.AddResidualBlock(RangeAtPoseResidual::create(range.range_m, range.sigma_m),
+      range_blocks.push_back(ceres_problem.AddResidualBlock(RangeAtPoseResidual::create(range.range_m, range.sigma_m * problem.range_sigma_factor),
                                      range_loss, state->poses[range.pose].data(), beacon,
-                                     calibration);
+                                     calibration, beacon_offset));
     } else {
-      ceres_problem.AddResidualBlock(
-          RangeAlongStepResidual::create(range.range_m, range.sigma_m, range.alpha), range_loss,
+      range_blocks.push_back(ceres_problem.AddResidualBlock(
+          RangeAlongStepResidual::create(range.range_m, range.sigma_m * problem.range_sigma_factor, range.alpha), range_loss,
           state->poses[range.pose].data(), state->poses[range.pose + 1].data(), beacon,
-          calibration);
+          calibration, beacon_offset));
     }
   }
+
+  if (!problem.fix_first_pose && num_poses > 0 && problem.start_prior_sigma[0] > 0.0 &&
+      problem.start_prior_sigma[1] > 0.0 && problem.start_prior_sigma[2] > 0.0)
+    ceres_problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PosePrior, 3, 3>(
+                                       new PosePrior(problem.start_prior_pose, problem.start_prior_sigma)),
+                                   nullptr, state->poses[0].data());
 
   // Gauge and calibration.
   if (problem.fix_first_pose && num_poses > 0) {
@@ -93,7 +193,24 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
   for (size_t j = 0; j < state->beacons.size(); ++j) {
     if (problem.beacon_fixed[j] && ceres_problem.HasParameterBlock(state->beacons[j].data()))
       ceres_problem.SetParameterBlockConstant(state->beacons[j].data());
+    double* offset = &state->beacon_offsets_m[j];
+    if (!ceres_problem.HasParameterBlock(offset)) continue;
+    if (config.estimate_beacon_offsets)
+      ceres_problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ScalarPrior, 1, 1>(
+                                         new ScalarPrior(0.0, config.beacon_offset_sigma_m)),
+                                     nullptr, offset);
+    else
+      ceres_problem.SetParameterBlockConstant(offset);
   }
+  if (!problem.ranges.empty() && config.estimate_range_scale && config.range_scale_sigma > 0.0) {
+    ceres_problem.AddResidualBlock(new ceres::AutoDiffCostFunction<CalibrationPrior, 1, 2>(
+                                       new CalibrationPrior(0, 1.0, config.range_scale_sigma)),
+                                   nullptr, calibration);
+  }
+  if (!problem.ranges.empty() && config.estimate_range_offset && config.range_offset_sigma_m > 0.0)
+    ceres_problem.AddResidualBlock(new ceres::AutoDiffCostFunction<CalibrationPrior, 1, 2>(
+                                       new CalibrationPrior(1, 0.0, config.range_offset_sigma_m)),
+                                   nullptr, calibration);
   if (!problem.ranges.empty()) {
     if (!config.estimate_range_scale && !config.estimate_range_offset) {
       ceres_problem.SetParameterBlockConstant(calibration);
@@ -119,9 +236,36 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
   const int stages = robust ? config.loss_anneal_stages : 1;
   const double final_scale = effectiveLossScale(config);
   Summary summary;
-  for (int stage = 0; stage < stages; ++stage) {
+  if (evaluate_only) {
+    if (robust) loss.Reset(makeLoss(config.loss, final_scale).release(), ceres::TAKE_OWNERSHIP);
+    double cost = 0.0;
+    ceres_problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
+    summary.initial_cost = summary.final_cost = cost;
+    summary.usable = std::isfinite(cost);
+    summary.converged = true;
+  }
+  // The first stage's scale: the robust spread of the seed's whitened range residuals
+  // (1.4826 median |r|: the inliers' spread, set by the seed's own error while outliers stay
+  // outside it), between the final scale and final * factor^(stages - 1). A fixed wide start
+  // would let a large fraction of outliers (30-50 % NLOS or echoes) drag the first stage
+  // like least squares.
+  double start_scale = final_scale * std::pow(config.loss_anneal_factor, stages - 1);
+  if (robust && stages > 1 && !evaluate_only && !range_blocks.empty()) {
+    std::vector<double> magnitudes;
+    magnitudes.reserve(range_blocks.size());
+    for (ceres::ResidualBlockId id : range_blocks) {
+      double cost = 0.0, residual = 0.0;
+      ceres_problem.EvaluateResidualBlock(id, false, &cost, &residual, nullptr);
+      magnitudes.push_back(std::abs(residual));
+    }
+    std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2, magnitudes.end());
+    const double spread = 1.4826 * magnitudes[magnitudes.size() / 2];
+    if (std::isfinite(spread)) start_scale = std::clamp(spread, final_scale, start_scale);
+  }
+  const double ratio = stages > 1 ? std::pow(start_scale / final_scale, 1.0 / (stages - 1)) : 1.0;
+  for (int stage = 0; stage < (evaluate_only ? 0 : stages); ++stage) {
     if (robust) {
-      const double scale = final_scale * std::pow(config.loss_anneal_factor, stages - 1 - stage);
+      const double scale = final_scale * std::pow(ratio, stages - 1 - stage);
       loss.Reset(makeLoss(config.loss, scale).release(), ceres::TAKE_OWNERSHIP);
     }
     ceres::Solver::Summary stage_summary;
@@ -131,10 +275,31 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     summary.iterations += stage_summary.num_successful_steps + stage_summary.num_unsuccessful_steps;
     summary.time_s += stage_summary.total_time_in_seconds;
     summary.usable = stage_summary.IsSolutionUsable();
+    summary.converged = stage_summary.termination_type == ceres::CONVERGENCE;
     summary.report += stage_summary.BriefReport() + "\n";
     ++summary.stages;
     if (!summary.usable) break;
   }
+  // The split of the final cost: ranges (with the final loss) and the rest.
+  double final_scale_used = robust ? final_scale : 0.0;
+  for (ceres::ResidualBlockId id : range_blocks) {
+    double cost = 0.0, residual = 0.0;
+    ceres_problem.EvaluateResidualBlock(id, true, &cost, &residual, nullptr);
+    double raw_cost = 0.0;
+    ceres_problem.EvaluateResidualBlock(id, false, &raw_cost, &residual, nullptr);  // the residual itself
+    summary.range_cost += cost;
+    if (!robust || std::abs(residual) <= 3.0 * final_scale_used) {
+      ++summary.range_inliers;
+      summary.range_inlier_squares += residual * residual;
+    }
+  }
+  summary.odometry_cost = summary.final_cost - summary.range_cost;
+  for (ceres::ResidualBlockId id : odometry_blocks) {
+    double cost = 0.0;
+    ceres_problem.EvaluateResidualBlock(id, false, &cost, nullptr, nullptr);
+    summary.odometry_squares += 2.0 * cost;
+  }
+  summary.odometry_residuals = 3 * static_cast<int>(odometry_blocks.size());
   return summary;
 }
 

@@ -9,6 +9,7 @@
 // fixed held constant. The calibration (scale, offset) is held constant unless estimated.
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <string>
 #include <vector>
@@ -31,6 +32,7 @@ struct RangeObservation {
 
 struct Problem {
   std::vector<Odometry> odometry;  // step k moves pose k to pose k + 1
+  std::vector<double> dt_s;        // duration of step k (for the heading-rate bias); empty: 0
   std::vector<RangeObservation> ranges;
   std::vector<bool> beacon_fixed;  // one per beacon block
   bool fix_first_pose = true;
@@ -38,6 +40,13 @@ struct Problem {
   // gauge freedom (every residual is invariant under it when no beacon is fixed), so the solve
   // keeps the rotation of its initial guess.
   bool fix_first_heading = true;
+  // Every odometry sigma and every range sigma times these (noise scales estimated from the
+  // residuals where the stated noise is too small).
+  // anchor = beacons: a prior on pose 0 from INITIAL_POSE (sigmas x, y, heading; 0: none).
+  std::array<double, 3> start_prior_pose{0.0, 0.0, 0.0};
+  std::array<double, 3> start_prior_sigma{0.0, 0.0, 0.0};
+  double odometry_sigma_factor = 1.0;
+  double range_sigma_factor = 1.0;
 };
 
 // The unknowns, also the initial guess.
@@ -45,6 +54,9 @@ struct State {
   std::vector<std::array<double, 3>> poses;    // world_T_robot: x_m, y_m, heading_rad
   std::vector<std::array<double, 2>> beacons;  // x_m, y_m
   std::array<double, 2> calibration{1.0, 0.0};  // range scale, range offset_m
+  // Odometry calibration (estimation::OdometryCalibration): distance scale, heading-rate bias.
+  std::array<double, 2> odometry_calibration{1.0, 0.0};
+  std::vector<double> beacon_offsets_m;  // one per beacon (held at 0 unless estimated)
 };
 
 struct Summary {
@@ -54,14 +66,29 @@ struct Summary {
   double final_cost = 0.0;      // of the last stage
   double time_s = 0.0;          // Ceres' wall time over every stage
   bool usable = false;          // Ceres' IsSolutionUsable() on the last stage
+  bool converged = false;       // the last stage stopped on a tolerance (not on max_iterations)
+  // At the solution, with the final loss: the odometry part (1/2 sum |r|^2, priors included) and
+  // the range part (1/2 sum rho), and the ranges whose whitened residual is within 3 loss scales.
+  double odometry_cost = 0.0;
+  double range_cost = 0.0;
+  int range_inliers = 0;
+  double range_inlier_squares = 0.0;  // sum of the inliers' whitened residuals squared
+  double odometry_squares = 0.0;      // sum of the odometry residuals squared (no priors)
+  int odometry_residuals = 0;
   std::string report;           // Ceres' brief reports, one line per stage
 };
 
 // Odometry sigmas of one step (along track, lateral, heading), see batch_config.hpp.
 std::array<double, 3> odometrySigmas(const SpectralBatchConfig& config, const Odometry& odometry);
 
+// The increment's covariance: the configured sigmas on the diagonal; a reported covariance is used
+// but never below them (estimation::incrementCovariance floors it).
+Eigen::Matrix3d odometryCovariance(const SpectralBatchConfig& config, const Odometry& odometry, double dt_s);
+
 // Solves in place. Beacons without ranges are left as they are.
-Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* state);
+// evaluate_only: no iterations, final_cost (and its split) is the guess's cost with the final loss.
+Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* state,
+              bool evaluate_only = false);
 
 }  // namespace batch
 }  // namespace roam

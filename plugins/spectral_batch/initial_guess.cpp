@@ -6,17 +6,22 @@
 namespace roam {
 namespace batch {
 
+std::array<double, 3> propagate(const std::array<double, 3>& pose, const Odometry& odometry, double dt_s,
+                                const estimation::OdometryCalibration& calibration) {
+  const Eigen::Vector3d next = estimation::step(Eigen::Vector3d(pose[0], pose[1], pose[2]),
+                                                estimation::calibratedIncrement(odometry, dt_s, calibration));
+  return {next[0], next[1], next[2]};
+}
+
 std::vector<std::array<double, 3>> deadReckon(const std::array<double, 3>& start_pose,
-                                              const std::vector<Odometry>& odometry) {
+                                              const std::vector<Odometry>& odometry,
+                                              const std::vector<double>& dt_s,
+                                              const estimation::OdometryCalibration& calibration) {
   std::vector<std::array<double, 3>> poses;
   poses.reserve(odometry.size() + 1);
   poses.push_back(start_pose);
-  for (const Odometry& step : odometry) {
-    const std::array<double, 3>& last = poses.back();
-    poses.push_back({last[0] + step.forward_m * std::cos(last[2]),
-                     last[1] + step.forward_m * std::sin(last[2]),
-                     last[2] + step.delta_heading_rad});
-  }
+  for (size_t k = 0; k < odometry.size(); ++k)
+    poses.push_back(propagate(poses.back(), odometry[k], k < dt_s.size() ? dt_s[k] : 0.0, calibration));
   return poses;
 }
 
@@ -63,7 +68,7 @@ void headingsFromOdometryAlignment(const std::vector<Odometry>& odometry, double
     const double bx = p[k][0] - mean_b.x(), by = p[k][1] - mean_b.y();
     const std::array<double, 7> term{ax, ay, bx, by, ax * bx + ay * by, ax * by - ay * bx, ax * ax + ay * ay};
     for (int c = 0; c < 7; ++c) sum[k + 1][c] = sum[k][c] + term[c];
-    if (k > 0) travelled[k] = travelled[k - 1] + std::abs(odometry[k - 1].forward_m);
+    if (k > 0) travelled[k] = travelled[k - 1] + std::hypot(odometry[k - 1].forward_m, odometry[k - 1].lateral_m);
   }
   size_t lo = 0, hi = 0;
   double previous_rad = 0.0;
@@ -85,30 +90,6 @@ void headingsFromOdometryAlignment(const std::vector<Odometry>& odometry, double
     p[k][2] = previous_rad = heading_rad;
     have_previous = true;
   }
-}
-
-bool multilaterate(const std::vector<std::array<double, 2>>& positions_m,
-                   const std::vector<double>& ranges_m, std::array<double, 2>* beacon_m) {
-  const Eigen::Index n = static_cast<Eigen::Index>(positions_m.size());
-  if (n < 3 || ranges_m.size() != positions_m.size()) return false;
-  // Centre the positions so the constant column is well conditioned against the others.
-  Eigen::Vector2d centre_m = Eigen::Vector2d::Zero();
-  for (const auto& p : positions_m) centre_m += Eigen::Vector2d(p[0], p[1]);
-  centre_m /= static_cast<double>(n);
-  Eigen::MatrixXd a(n, 3);
-  Eigen::VectorXd b(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Eigen::Vector2d p_m = Eigen::Vector2d(positions_m[i][0], positions_m[i][1]) - centre_m;
-    a.row(i) << -2.0 * p_m.x(), -2.0 * p_m.y(), 1.0;
-    b(i) = ranges_m[i] * ranges_m[i] - p_m.squaredNorm();
-  }
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
-  qr.setThreshold(1e-9);
-  if (qr.rank() < 3) return false;
-  const Eigen::Vector3d u = qr.solve(b);
-  (*beacon_m)[0] = u.x() + centre_m.x();
-  (*beacon_m)[1] = u.y() + centre_m.y();
-  return std::isfinite((*beacon_m)[0]) && std::isfinite((*beacon_m)[1]);
 }
 
 }  // namespace batch

@@ -1,24 +1,30 @@
 // Initial guesses of the batch problem that need no other estimator.
 //
-// Dead reckoning: from the start pose, x += d cos th; y += d sin th; th += dth (move, then turn;
-// the deadreckoning plugin's convention).
-// Beacon by linear multilateration: |m - p_i|^2 = r_i^2 is linear in u = (m_x, m_y, |m|^2):
-//   [-2 p_ix, -2 p_iy, 1] u = r_i^2 - |p_i|^2,
-// solved by least squares (Eigen, column-pivoting QR). It needs >= 3 positions not on one line;
-// the positions come from the guessed path, so the beacon inherits its errors (a seed only).
+// Dead reckoning: from the start pose, each step through the shared motion model
+// (estimation::step of the calibrated increment; the deadreckoning plugin's convention).
+// Beacons are multilaterated by estimation/multilateration.hpp (robust, from the guessed path, so
+// a beacon inherits the path's errors: a seed only).
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <vector>
 
+#include "roam/estimation/motion_model.hpp"
 #include "roam/types.hpp"
 
 namespace roam {
 namespace batch {
 
+// dt_s[k]: duration of step k (empty: 0, so the heading-rate bias does not act).
 std::vector<std::array<double, 3>> deadReckon(const std::array<double, 3>& start_pose,
-                                              const std::vector<Odometry>& odometry);
+                                              const std::vector<Odometry>& odometry,
+                                              const std::vector<double>& dt_s = {},
+                                              const estimation::OdometryCalibration& calibration = {});
+
+// One step of dead reckoning from pose.
+std::array<double, 3> propagate(const std::array<double, 3>& pose, const Odometry& odometry, double dt_s = 0.0,
+                                const estimation::OdometryCalibration& calibration = {});
 
 // Headings of a path from its positions: heading_k = direction of the chord from the pose
 // half_window_s before k to the pose half_window_s after k (clamped to the path), so the noise of
@@ -37,10 +43,6 @@ void headingsFromChords(const std::vector<int64_t>& utime, double half_window_s,
 // inside it stays small. Poses whose window spans no motion keep the seed heading. Unwrapped.
 void headingsFromOdometryAlignment(const std::vector<Odometry>& odometry, double half_window_m,
                                    std::vector<std::array<double, 3>>* poses);
-
-// False if fewer than 3 ranges or the positions do not span the plane (relative rcond 1e-9).
-bool multilaterate(const std::vector<std::array<double, 2>>& positions_m,
-                   const std::vector<double>& ranges_m, std::array<double, 2>* beacon_m);
 
 }  // namespace batch
 }  // namespace roam

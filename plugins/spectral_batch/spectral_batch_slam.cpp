@@ -5,9 +5,11 @@
 #include <exception>
 #include <iostream>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include "initial_guess.hpp"
+#include "roam/estimation/multilateration.hpp"
 #include "spectral_seed.hpp"
 
 namespace roam {
@@ -15,11 +17,8 @@ namespace {
 
 // A chord shorter than this speed times its window means the robot barely moved: no heading.
 constexpr double kMinSeedSpeed_mps = 0.1;
-
-std::array<double, 3> propagate(const std::array<double, 3>& pose, const Odometry& step) {
-  return {pose[0] + step.forward_m * std::cos(pose[2]),
-          pose[1] + step.forward_m * std::sin(pose[2]), pose[2] + step.delta_heading_rad};
-}
+// Odometry noise-scale search: up to 32 times the configured noise (2 % per metre -> 64 %).
+constexpr double kMaxOdometryNoiseScale = 32.0;
 
 Pose toPose(int64_t utime, const std::array<double, 3>& pose) {
   Pose out;
@@ -52,6 +51,7 @@ void SpectralBatchSlam::start(const Pose& start_pose) {
 void SpectralBatchSlam::setInitialPose(const Pose& start_pose) {
   if (started_) return;  // the start is fixed once odometry has begun
   start(start_pose);
+  have_initial_pose_ = true;
   if (spectral_) spectral_->setInitialPose(start_pose);
 }
 
@@ -69,11 +69,12 @@ void SpectralBatchSlam::addOdometry(const Odometry& odometry) {
   }
   if (odometry.utime < pose_utime_.back()) return rejectOdometry("time went backwards");
   odometry_.push_back(odometry);
+  dt_s_.push_back(1e-6 * static_cast<double>(odometry.utime - pose_utime_.back()));
   pose_utime_.push_back(odometry.utime);
   acceptOdometry();
   if (spectral_) spectral_->addOdometry(odometry);
 
-  current_pose_ = propagate(current_pose_, odometry);
+  current_pose_ = batch::propagate(current_pose_, odometry, dt_s_.back(), odometryCalibration());
   emitPose(toPose(odometry.utime, current_pose_));
 
   if (config_.resolve_interval_s > 0.0 &&
@@ -112,7 +113,10 @@ std::vector<std::array<double, 3>> SpectralBatchSlam::initialPoses(bool final) {
   if (!solved_poses_.empty() && !reseed) {
     // Warm start: the previous solution, extended by odometry from its last pose.
     std::vector<std::array<double, 3>> poses = solved_poses_;
-    while (poses.size() < num_poses) poses.push_back(propagate(poses.back(), odometry_[poses.size() - 1]));
+    while (poses.size() < num_poses) {
+      const size_t k = poses.size() - 1;
+      poses.push_back(batch::propagate(poses.back(), odometry_[k], dt_s_[k], odometryCalibration()));
+    }
     return poses;
   }
   if (spectral_) {
@@ -153,7 +157,6 @@ std::vector<std::array<double, 3>> SpectralBatchSlam::initialPoses(bool final) {
         poses[0][2] += wrapAngle(start_pose_[2] - poses[0][2]);
         shifted_seed_m_ = {dx_m, dy_m};
       }
-      setDiagnostic("init_spectral", 1.0);
       seeded_by_spectral_ = true;
       return poses;
     }
@@ -164,28 +167,18 @@ std::vector<std::array<double, 3>> SpectralBatchSlam::initialPoses(bool final) {
   if (!solved_poses_.empty()) {
     // No spectral path after all: keep the warm start.
     std::vector<std::array<double, 3>> poses = solved_poses_;
-    while (poses.size() < num_poses) poses.push_back(propagate(poses.back(), odometry_[poses.size() - 1]));
+    while (poses.size() < num_poses) {
+      const size_t k = poses.size() - 1;
+      poses.push_back(batch::propagate(poses.back(), odometry_[k], dt_s_[k], odometryCalibration()));
+    }
     return poses;
   }
-  setDiagnostic("init_spectral", 0.0);
-  return batch::deadReckon(start_pose_, odometry_);
+  return batch::deadReckon(start_pose_, odometry_, dt_s_, odometryCalibration());
 }
 
-void SpectralBatchSlam::solveNow(bool final) {
-  const size_t num_poses = pose_utime_.size();
-  std::vector<std::array<double, 3>> poses = initialPoses(final);
-  Map spectral_map;
-  const bool fresh_seed = seeded_by_spectral_ && !spectral_map_taken_;
-  const bool seeded_by_spectral = fresh_seed && spectral_->takeMap(&spectral_map);
-  if (fresh_seed) spectral_map_taken_ = true;
-
+std::vector<SpectralBatchSlam::Tie> SpectralBatchSlam::tieRanges(bool final) const {
   // Tie every range to the pose chain (see the header): pose k and alpha along step k.
-  struct Tied {
-    int pose;
-    double alpha;
-    const Range* range;
-  };
-  std::vector<Tied> tied;
+  std::vector<Tie> tied;
   tied.reserve(ranges_.size());
   for (const Range& range : ranges_) {
     const auto after = std::upper_bound(pose_utime_.begin(), pose_utime_.end(), range.utime);
@@ -202,20 +195,34 @@ void SpectralBatchSlam::solveNow(bool final) {
     const double alpha = step_us > 0.0 ? static_cast<double>(range.utime - pose_utime_[k]) / step_us : 0.0;
     tied.push_back({k, alpha, &range});
   }
-  auto positionAt = [&poses](const Tied& t) -> std::array<double, 2> {
+  return tied;
+}
+
+double SpectralBatchSlam::rangeSigma(const Range& range) const {
+  return range.sigma_m > 0.0 ? range.sigma_m : config_.range_sigma_m;
+}
+
+SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array<double, 3>> poses,
+                                                          const Map* seed_map, bool use_previous,
+                                                          bool fix_first_heading,
+                                                          const std::vector<Tie>& tied,
+                                                          bool evaluate_only,
+                                                          const std::array<double, 2>& noise_factors,
+                                                          const std::array<double, 2>& odometry_calibration) const {
+  auto positionAt = [&poses](const Tie& t) -> std::array<double, 2> {
     const auto& a = poses[t.pose];
     if (t.alpha == 0.0) return {a[0], a[1]};
     const auto& b = poses[t.pose + 1];
     return {a[0] + t.alpha * (b[0] - a[0]), a[1] + t.alpha * (b[1] - a[1])};
   };
 
-  // Beacon blocks: surveyed and fixed (anchor = beacons), the previous solve, the spectral map,
-  // or multilateration from the guessed path, in that order of preference.
+  // Beacon blocks: surveyed and fixed (anchor = beacons), the seed's map, the previous solve, or
+  // robust multilateration from the guessed path, in that order of preference.
   std::set<int> ids;
-  for (const Tied& t : tied) ids.insert(t.range->beacon_id);
-  batch::Problem problem;
-  batch::State state;
-  std::map<int, int> index_of;
+  for (const Tie& t : tied) ids.insert(t.range->beacon_id);
+  Candidate out;
+  batch::Problem& problem = out.problem;
+  batch::State& state = out.state;
   for (int id : ids) {
     std::array<double, 2> beacon{0.0, 0.0};
     bool have = false;
@@ -228,83 +235,319 @@ void SpectralBatchSlam::solveNow(bool final) {
         }
       }
     }
-    if (!have && seeded_by_spectral) {
-      for (const Beacon& b : spectral_map) {
+    if (!have && seed_map) {
+      for (const Beacon& b : *seed_map) {
         if (b.id == id && std::isfinite(b.x_m) && std::isfinite(b.y_m)) {
           beacon = {b.x_m + shifted_seed_m_[0], b.y_m + shifted_seed_m_[1]};
           have = true;
         }
       }
     }
-    if (!have && solved_beacons_.count(id)) {
+    if (!have && use_previous && solved_beacons_.count(id)) {
       beacon = solved_beacons_.at(id);
       have = true;
     }
     if (!have) {
       std::vector<std::array<double, 2>> positions_m;
       std::vector<double> ranges_m;
-      for (const Tied& t : tied) {
+      double sigma_m = 0.0;
+      for (const Tie& t : tied) {
         if (t.range->beacon_id != id) continue;
         positions_m.push_back(positionAt(t));
         ranges_m.push_back(t.range->range_m);
+        sigma_m += rangeSigma(*t.range);
       }
-      have = batch::multilaterate(positions_m, ranges_m, &beacon);
+      if (!positions_m.empty()) sigma_m /= static_cast<double>(positions_m.size());
+      // The path is a guess: its error adds to the range noise (odometry drift of metres).
+      estimation::RobustMultilateration robust;
+      have = estimation::multilaterateRobust(positions_m, ranges_m, std::max(sigma_m, 1.0), &robust);
+      if (have) beacon = robust.beacon_m;
     }
     if (!have) continue;  // not yet observable: its ranges wait for a later solve
-    index_of[id] = static_cast<int>(state.beacons.size());
+    out.index_of[id] = static_cast<int>(state.beacons.size());
     state.beacons.push_back(beacon);
+    state.beacon_offsets_m.push_back(use_previous && beacon_offsets_m_.count(id) ? beacon_offsets_m_.at(id) : 0.0);
     problem.beacon_fixed.push_back(fixed);
   }
-  for (const Tied& t : tied) {
-    const auto found = index_of.find(t.range->beacon_id);
-    if (found == index_of.end()) continue;
+  for (const Tie& t : tied) {
+    const auto found = out.index_of.find(t.range->beacon_id);
+    if (found == out.index_of.end()) continue;
     batch::RangeObservation observation;
     observation.pose = t.pose;
     observation.alpha = t.alpha;
     observation.beacon = found->second;
     observation.range_m = t.range->range_m;
-    observation.sigma_m = t.range->sigma_m > 0.0 ? t.range->sigma_m : config_.range_sigma_m;
+    observation.sigma_m = rangeSigma(*t.range);
     problem.ranges.push_back(observation);
   }
   problem.odometry = odometry_;
+  problem.dt_s = dt_s_;
   problem.fix_first_pose = config_.anchor == "start_pose";
+  problem.fix_first_heading = fix_first_heading;
+  if (have_initial_pose_ && config_.anchor == "beacons" && config_.start_pose_sigma_m > 0.0) {
+    problem.start_prior_pose = start_pose_;
+    problem.start_prior_sigma = {config_.start_pose_sigma_m, config_.start_pose_sigma_m,
+                                 config_.start_heading_sigma_rad};
+  }
+  state.poses = std::move(poses);
+  state.odometry_calibration = odometry_calibration;
+  if (use_previous) {
+    state.calibration = calibration_;
+    state.odometry_calibration = odometry_calibration_;
+  }
+  problem.odometry_sigma_factor = noise_factors[0];
+  problem.range_sigma_factor = noise_factors[1];
+  out.summary = batch::solve(config_, problem, &state, evaluate_only);
+  // The odometry noise scale k by maximum likelihood (profile over k): every odometry sigma times
+  // k adds n log k to the negative log-likelihood (n odometry residuals) and divides their squares
+  // by k^2. k = 1, 2, 4, ... is tried, each solve warm-started from the last, while the
+  // likelihood improves; the configured (or reported) noise is the floor, never narrowed. A log's
+  // stated noise is often its generator's setting (GOATS: 2 cm per edge for odometry good to a
+  // metre), and odometry held 10 times too stiff makes good ranges look like outliers.
+  if (!evaluate_only && config_.estimate_noise_scale && out.summary.usable && problem.odometry_sigma_factor == 1.0) {
+    const double n = 3.0 * static_cast<double>(problem.odometry.size());
+    double best_nll = out.summary.final_cost;
+    for (double k = 2.0; k <= kMaxOdometryNoiseScale; k *= 2.0) {
+      batch::Problem trial_problem = problem;
+      batch::State trial_state = state;
+      trial_problem.odometry_sigma_factor = k;
+      batch::Summary trial = batch::solve(config_, trial_problem, &trial_state);
+      const double nll = trial.final_cost + n * std::log(k);
+      if (!trial.usable || !(nll < best_nll)) break;
+      best_nll = nll;
+      trial.iterations += out.summary.iterations;
+      problem = std::move(trial_problem);
+      state = std::move(trial_state);
+      out.summary = trial;
+    }
+  }
+  return out;
+}
+
+void SpectralBatchSlam::alignRotationToOdometry(batch::State* state) {
+  // Rotation about pose 0 leaves every residual unchanged (no beacon is fixed): the gauge. It is
+  // set as the spectral core sets it: the rotation that best aligns (least squares) the solved
+  // positions over the first gauge_align_m of travel to the calibrated dead reckoning from the
+  // start pose. Calibrated: with the gyro bias removed, the first metres of odometry are better
+  // than one start heading, and far better than a spectral seed fitted to biased odometry.
+  std::vector<std::array<double, 3>>& poses = state->poses;
+  const estimation::OdometryCalibration calibration{state->odometry_calibration[0], state->odometry_calibration[1]};
+  const std::vector<std::array<double, 3>> dr = batch::deadReckon(start_pose_, odometry_, dt_s_, calibration);
+  double dot = 0.0, cross = 0.0, travelled_m = 0.0;
+  for (size_t k = 1; k < poses.size() && travelled_m <= config_.gauge_align_m; ++k) {
+    travelled_m += std::hypot(odometry_[k - 1].forward_m, odometry_[k - 1].lateral_m);
+    const double px = poses[k][0] - poses[0][0], py = poses[k][1] - poses[0][1];
+    const double dx = dr[k][0] - dr[0][0], dy = dr[k][1] - dr[0][1];
+    dot += px * dx + py * dy;
+    cross += px * dy - py * dx;
+  }
+  if (travelled_m < 0.5 * config_.gauge_align_m || std::hypot(dot, cross) <= 0.0) return;
+  const double angle_rad = std::atan2(cross, dot);
+  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
+  const double ox = poses[0][0], oy = poses[0][1];
+  auto rotate = [&](double* x, double* y) {
+    const double rx = *x - ox, ry = *y - oy;
+    *x = ox + c * rx - s * ry;
+    *y = oy + s * rx + c * ry;
+  };
+  for (auto& pose : poses) {
+    rotate(&pose[0], &pose[1]);
+    pose[2] += angle_rad;
+  }
+  for (auto& beacon : state->beacons) rotate(&beacon[0], &beacon[1]);
+  setDiagnostic("gauge_rotation_rad", angle_rad);
+}
+
+double SpectralBatchSlam::scanHeadingRateBias(const std::vector<Tie>& tied) const {
+  // Robust range cost of dead reckoning with bias b, beacons surveyed (anchor = beacons) or
+  // robustly multilaterated from that path; Cauchy at the loss's scale over the range sigma.
+  const double c = 2.385;
+  auto score = [&](double bias_rad_s) {
+    const std::vector<std::array<double, 3>> poses =
+        batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
+    std::map<int, std::vector<std::array<double, 2>>> positions;
+    std::map<int, std::vector<double>> ranges;
+    std::map<int, double> sigma;
+    for (const Tie& t : tied) {
+      const auto& a = poses[t.pose];
+      std::array<double, 2> p{a[0], a[1]};
+      if (t.alpha != 0.0) {
+        const auto& b = poses[t.pose + 1];
+        p = {a[0] + t.alpha * (b[0] - a[0]), a[1] + t.alpha * (b[1] - a[1])};
+      }
+      positions[t.range->beacon_id].push_back(p);
+      ranges[t.range->beacon_id].push_back(t.range->range_m);
+      sigma[t.range->beacon_id] = rangeSigma(*t.range);
+    }
+    double cost = 0.0;
+    for (const auto& [id, ps] : positions) {
+      const Beacon* surveyed = nullptr;
+      if (config_.anchor == "beacons")
+        for (const Beacon& b : surveyed_)
+          if (b.id == id) surveyed = &b;
+      if (surveyed) {
+        for (size_t i = 0; i < ps.size(); ++i) {
+          const double r = (std::hypot(surveyed->x_m - ps[i][0], surveyed->y_m - ps[i][1]) - ranges[id][i]) /
+                           (sigma[id] * c);
+          cost += 0.5 * c * c * std::log1p(r * r);
+        }
+      } else {
+        estimation::RobustMultilateration robust;
+        if (estimation::multilaterateRobust(ps, ranges[id], sigma[id], &robust)) cost += robust.cost;
+        else cost += 0.5 * c * c * std::log1p(1e6) * static_cast<double>(ps.size());  // unobservable: worst
+      }
+    }
+    return cost;
+  };
+  // Coarse to fine over +-3 prior sigmas: 31 points, then 2 refinements of 21 points each.
+  const double span = 3.0 * config_.heading_rate_bias_sigma_rad_s;
+  double best = 0.0, best_cost = score(0.0);
+  double step = span / 15.0;
+  double centre = 0.0;
+  for (int level = 0; level < 3; ++level) {
+    const int half = level == 0 ? 15 : 10;
+    for (int i = -half; i <= half; ++i) {
+      const double b = centre + step * i;
+      if (b == 0.0) continue;
+      const double cost = score(b);
+      if (cost < best_cost) {
+        best_cost = cost;
+        best = b;
+      }
+    }
+    centre = best;
+    step /= 10.0;
+  }
+  return best;
+}
+
+double SpectralBatchSlam::costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const {
+  batch::Problem problem = candidate.problem;
+  batch::State state = candidate.state;
+  problem.odometry_sigma_factor = noise_factors[0];
+  problem.range_sigma_factor = noise_factors[1];
+  return batch::solve(config_, problem, &state, true).final_cost;
+}
+
+void SpectralBatchSlam::solveNow(bool final) {
+  const size_t num_poses = pose_utime_.size();
+  std::vector<std::array<double, 3>> poses = initialPoses(final);
+  Map spectral_map;
+  const bool fresh_seed = seeded_by_spectral_ && !spectral_map_taken_;
+  const bool seeded_by_spectral = fresh_seed && spectral_->takeMap(&spectral_map);
+  if (fresh_seed) spectral_map_taken_ = true;
+  const std::vector<Tie> tied = tieRanges(final);
+
   // A spectral seed already carries the frame's rotation, fitted by the spectral core to the start
   // pose and the first align_m of odometry (least squares over ~50 m, insensitive to the heading
   // at a standing start). Pinning the single pose-0 heading instead lets early odometry heading
   // errors (a 2 % turn error is degrees) rotate the whole solution about the start: on Plaza 1
   // the pinned optimum is rotated ~6 deg, metres at the far end. So with a spectral seed only the
   // start position is fixed and the rotation gauge stays where the seed put it.
-  problem.fix_first_heading = !seeded_by_spectral_;
-  state.poses = std::move(poses);
-  state.calibration = calibration_;
-
-  summary_ = batch::solve(config_, problem, &state);
+  Candidate best = solveFrom(std::move(poses), seeded_by_spectral ? &spectral_map : nullptr,
+                             !seeded_by_spectral, !seeded_by_spectral_, tied, false, noise_factors_,
+                             odometry_calibration_);
+  bool from_spectral = seeded_by_spectral_;
+  std::array<double, 2> factors{best.problem.odometry_sigma_factor, best.problem.range_sigma_factor};
+  if (final) {
+    // The odometry-alone hypothesis: dead reckoning, beacons multilaterated (robustly) from it.
+    // Then the solve from it (init = deadreckoning); with a spectral seed both are solved and the
+    // lower robust cost, under the same (wider) noise scales, is kept: a seed dragged by
+    // outliers loses.
+    const std::vector<std::array<double, 3>> dr = batch::deadReckon(start_pose_, odometry_, dt_s_);
+    // The dead-reckoning seed with the heading-rate bias that best explains the ranges (a scan):
+    // a gyro drift of 0.3 deg/s curls a 30-minute path into circles no local solve unwinds.
+    const double bias_rad_s = config_.estimate_odometry_calibration ? scanHeadingRateBias(tied) : 0.0;
+    setDiagnostic("heading_rate_bias_scan_rad_s", bias_rad_s);
+    const std::vector<std::array<double, 3>> dr_biased =
+        batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
+    if (from_spectral || bias_rad_s != 0.0) {
+      Candidate from_dr = solveFrom(dr_biased, nullptr, false, true, tied, false, noise_factors_, {1.0, bias_rad_s});
+      if (from_dr.summary.usable) {
+        const std::array<double, 2> common{
+            std::max(factors[0], from_dr.problem.odometry_sigma_factor),
+            std::max(factors[1], from_dr.problem.range_sigma_factor)};
+        const double cost_spectral = best.summary.usable ? costWithNoise(best, common) : HUGE_VAL;
+        const double cost_dr = costWithNoise(from_dr, common);
+        if (config_.verbose)
+          std::cerr << "spectral_batch: robust cost from the spectral seed " << cost_spectral
+                    << ", from dead reckoning " << cost_dr << " (noise scales " << common[0] << ", "
+                    << common[1] << ")\n";
+        if (cost_dr < cost_spectral) {
+          best = std::move(from_dr);
+          from_spectral = false;
+        }
+      }
+      factors = {best.problem.odometry_sigma_factor, best.problem.range_sigma_factor};
+    }
+    const Candidate alone = solveFrom(dr, nullptr, false, true, tied, true, factors, {1.0, 0.0});
+    odometry_alone_cost_ = alone.summary.final_cost;
+    best_cost_ = costWithNoise(best, factors);
+    setDiagnostic("odometry_alone_cost", odometry_alone_cost_);
+  }
+  if (final && config_.anchor == "start_pose" && config_.gauge_align_m > 0.0 && best.summary.usable)
+    alignRotationToOdometry(&best.state);
+  noise_factors_ = factors;
+  setDiagnostic("odometry_noise_scale", factors[0]);
+  setDiagnostic("range_noise_scale", factors[1]);
+  setDiagnostic("init_spectral", from_spectral ? 1.0 : 0.0);
+  summary_ = best.summary;
+  const batch::Problem& problem = best.problem;
+  batch::State& state = best.state;
   ++solves_;
   if (config_.verbose) {
     std::cerr << "spectral_batch: solve " << solves_ << " over " << num_poses << " poses, "
               << problem.ranges.size() << " ranges, " << state.beacons.size() << " beacons: "
               << summary_.iterations << " iterations, cost " << summary_.initial_cost << " -> "
-              << summary_.final_cost << ", " << summary_.time_s << " s, range scale "
-              << state.calibration[0] << ", offset " << state.calibration[1] << " m\n"
+              << summary_.final_cost << " (odometry " << summary_.odometry_cost << ", ranges "
+              << summary_.range_cost << ", " << summary_.range_inliers << " inliers), " << summary_.time_s
+              << " s, range scale " << state.calibration[0] << ", offset " << state.calibration[1]
+              << " m, distance scale " << state.odometry_calibration[0] << ", heading-rate bias "
+              << state.odometry_calibration[1] << " rad/s, noise scales odometry "
+              << best.problem.odometry_sigma_factor << ", range " << best.problem.range_sigma_factor << "\n"
               << summary_.report;
   }
   setDiagnostic("solves", solves_);
   setDiagnostic("solver_iterations", summary_.iterations);
   setDiagnostic("solver_stages", summary_.stages);
+  setDiagnostic("solver_converged", summary_.converged ? 1.0 : 0.0);
   setDiagnostic("solver_initial_cost", summary_.initial_cost);
   setDiagnostic("solver_final_cost", summary_.final_cost);
+  setDiagnostic("solver_odometry_cost", summary_.odometry_cost);
+  setDiagnostic("solver_range_cost", summary_.range_cost);
   setDiagnostic("solver_time_s", summary_.time_s);
   setDiagnostic("ranges_used", static_cast<double>(problem.ranges.size()));
+  setDiagnostic("ranges_inliers", static_cast<double>(summary_.range_inliers));
   if (!summary_.usable) {
     setState(EstimatorState::kFailed);
     throw std::runtime_error("spectral_batch: the Ceres solve failed: " + summary_.report);
   }
+  if (final && best_cost_ > odometry_alone_cost_ * (1.0 + 1e-9) + 1e-9) {
+    // Ranges and odometry together explain the data worse than odometry alone: a wrong basin.
+    setState(EstimatorState::kFailed);
+    std::ostringstream why;
+    why << "spectral_batch: the solve ended at robust cost " << best_cost_
+        << ", above odometry alone (" << odometry_alone_cost_
+        << "): no solution (check range_sigma_m, the odometry noise keys and loss)";
+    throw std::runtime_error(why.str());
+  }
+  if (!summary_.converged && config_.verbose)
+    std::cerr << "spectral_batch: the last stage stopped at max_iterations (" << config_.max_iterations
+              << ") before converging\n";
 
   solved_poses_ = std::move(state.poses);
-  for (const auto& [id, index] : index_of) solved_beacons_[id] = state.beacons[index];
+  for (const auto& [id, index] : best.index_of) {
+    solved_beacons_[id] = state.beacons[index];
+    beacon_offsets_m_[id] = state.beacon_offsets_m[index];
+    if (config_.estimate_beacon_offsets)
+      setDiagnostic("beacon_offset_m_" + std::to_string(id), state.beacon_offsets_m[index]);
+  }
   calibration_ = state.calibration;
+  odometry_calibration_ = state.odometry_calibration;
   setDiagnostic("range_scale", calibration_[0]);
   setDiagnostic("range_offset_m", calibration_[1]);
+  setDiagnostic("odometry_distance_scale", odometry_calibration_[0]);
+  setDiagnostic("heading_rate_bias_rad_s", odometry_calibration_[1]);
   current_pose_ = solved_poses_.back();
   last_solve_utime_ = pose_utime_.back();
   new_solution_ = true;
@@ -328,7 +571,9 @@ Path SpectralBatchSlam::currentPath() const {
   path.reserve(pose_utime_.size());
   std::array<double, 3> pose = solved_poses_.empty() ? start_pose_ : solved_poses_[0];
   for (size_t k = 0; k < pose_utime_.size(); ++k) {
-    if (k > 0) pose = k < solved_poses_.size() ? solved_poses_[k] : propagate(pose, odometry_[k - 1]);
+    if (k > 0)
+      pose = k < solved_poses_.size() ? solved_poses_[k]
+                                      : batch::propagate(pose, odometry_[k - 1], dt_s_[k - 1], odometryCalibration());
     path.push_back(toPose(pose_utime_[k], pose));
   }
   return path;

@@ -37,6 +37,7 @@
 
 #include "batch_config.hpp"
 #include "batch_problem.hpp"
+#include "roam/estimation/motion_model.hpp"
 #include "roam/estimator.hpp"
 
 namespace roam {
@@ -58,12 +59,44 @@ class SpectralBatchSlam : public Estimator {
   const batch::Summary& lastSummary() const { return summary_; }
   double rangeScale() const { return calibration_[0]; }
   double rangeOffset_m() const { return calibration_[1]; }
+  estimation::OdometryCalibration odometryCalibration() const {
+    return {odometry_calibration_[0], odometry_calibration_[1]};
+  }
   int solves() const { return solves_; }
   // The latest solved map (empty before the first solve).
   Map map() const;
 
  private:
   void start(const Pose& start);
+  // A range tied to the pose chain: pose k, alpha along step k.
+  struct Tie {
+    int pose;
+    double alpha;
+    const Range* range;
+  };
+  struct Candidate {
+    batch::Problem problem;
+    batch::State state;
+    batch::Summary summary;
+    std::map<int, int> index_of;  // beacon id -> beacon block
+  };
+  std::vector<Tie> tieRanges(bool final) const;
+  double rangeSigma(const Range& range) const;
+  // One solve (or, evaluate_only, the cost of the guess with the final loss) from these poses;
+  // beacons from the seed map, the previous solve (use_previous, also the calibrations) or
+  // robust multilateration from the poses.
+  Candidate solveFrom(std::vector<std::array<double, 3>> poses, const Map* seed_map, bool use_previous,
+                      bool fix_first_heading, const std::vector<Tie>& tied, bool evaluate_only,
+                      const std::array<double, 2>& noise_factors,
+                      const std::array<double, 2>& odometry_calibration) const;
+  // The heading-rate bias whose dead reckoning best explains the ranges (robust cost), scanned
+  // over +-3 prior sigmas (coarse to fine).
+  double scanHeadingRateBias(const std::vector<Tie>& tied) const;
+  // anchor = start_pose: rotates the solution about pose 0 onto the calibrated odometry of the
+  // first gauge_align_m of travel (the rotation gauge).
+  void alignRotationToOdometry(batch::State* state);
+  // The candidate's cost (final loss) with these odometry and range noise scales.
+  double costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const;
   void solveNow(bool final);
   std::vector<std::array<double, 3>> initialPoses(bool final);
   Path currentPath() const;
@@ -71,16 +104,20 @@ class SpectralBatchSlam : public Estimator {
   SpectralBatchConfig config_;
   std::unique_ptr<Estimator> spectral_;  // the seed (init = spectral), fed every input
   bool started_ = false;
+  bool have_initial_pose_ = false;  // INITIAL_POSE came (not the origin by default)
   std::array<double, 3> start_pose_{0.0, 0.0, 0.0};  // world_T_robot at pose_utime_[0]
   Map surveyed_;
   std::vector<Odometry> odometry_;    // step k ends at pose_utime_[k + 1]
   std::vector<int64_t> pose_utime_;   // pose_utime_[0] is the start
+  std::vector<double> dt_s_;          // duration of step k
   std::vector<Range> ranges_;         // every accepted range, in arrival order
 
   // The latest solution: poses 0 .. solved_poses_.size() - 1, beacons by id, calibration.
   std::vector<std::array<double, 3>> solved_poses_;
   std::map<int, std::array<double, 2>> solved_beacons_;
   std::array<double, 2> calibration_{1.0, 0.0};
+  std::array<double, 2> odometry_calibration_{1.0, 0.0};  // distance scale, heading-rate bias
+  std::map<int, double> beacon_offsets_m_;
   std::array<double, 3> current_pose_{0.0, 0.0, 0.0};  // the latest estimate, propagated
   int64_t last_solve_utime_ = 0;
   bool new_solution_ = false;
@@ -88,6 +125,9 @@ class SpectralBatchSlam : public Estimator {
   std::array<double, 2> shifted_seed_m_{0.0, 0.0};  // translation applied to the spectral seed
   bool spectral_map_taken_ = false;
   int solves_ = 0;
+  double odometry_alone_cost_ = 0.0;
+  double best_cost_ = 0.0;
+  std::array<double, 2> noise_factors_{1.0, 1.0};  // odometry, range: the latest estimate
   batch::Summary summary_;
 };
 

@@ -32,21 +32,40 @@ TEST(BatchResiduals, OdometryValuesByHand) {
   // In robot frame a the displacement (-0.5, 2) is (along, lateral) = (2, 0.5).
   // Measured d = 1.5, dtheta = 0.1; sigmas (0.5, 0.25, 0.1):
   //   r0 = (2 - 1.5) / 0.5 = 1,  r1 = 0.5 / 0.25 = 2,  r2 = (0.3 - 0.1) / 0.1 = 2.
-  std::unique_ptr<ceres::CostFunction> cost(OdometryResidual::create(1.5, 0.1, 0.5, 0.25, 0.1));
+  std::unique_ptr<ceres::CostFunction> cost(OdometryResidual::create(
+      Eigen::Vector3d(1.5, 0.0, 0.1), 1.0, Eigen::Vector3d(1 / 0.5, 1 / 0.25, 1 / 0.1).asDiagonal()));
   const double a[3] = {0.0, 0.0, M_PI / 2};
   const double b[3] = {-0.5, 2.0, M_PI / 2 + 0.3};
-  const std::vector<double> r = evaluate(*cost, {a, b});
+  const double uncalibrated[2] = {1.0, 0.0};
+  const std::vector<double> r = evaluate(*cost, {a, b, uncalibrated});
   EXPECT_NEAR(r[0], 1.0, kValueTolerance);
   EXPECT_NEAR(r[1], 2.0, kValueTolerance);
   EXPECT_NEAR(r[2], 2.0, kValueTolerance);
 }
 
+TEST(BatchResiduals, OdometryCalibrationAndLateral) {
+  // Reported (u, v, w) = (1, 0.25, 0.2) over 0.2 s; distance scale 2 and heading-rate bias
+  // 0.5 rad/s make it (2, 0.5, 0.1): b above is then the prediction exactly, but for its heading
+  // (0.3 turned against 0.1): r = (0, 0, 0.2 / 0.1).
+  std::unique_ptr<ceres::CostFunction> cost(OdometryResidual::create(
+      Eigen::Vector3d(1.0, 0.25, 0.2), 0.2, Eigen::Vector3d(1 / 0.5, 1 / 0.25, 1 / 0.1).asDiagonal()));
+  const double a[3] = {0.0, 0.0, M_PI / 2};
+  const double b[3] = {-0.5, 2.0, M_PI / 2 + 0.3};
+  const double calibration[2] = {2.0, 0.5};
+  const std::vector<double> r = evaluate(*cost, {a, b, calibration});
+  EXPECT_NEAR(r[0], 0.0, kValueTolerance);
+  EXPECT_NEAR(r[1], 0.0, kValueTolerance);
+  EXPECT_NEAR(r[2], 2.0, kValueTolerance);
+}
+
 TEST(BatchResiduals, HeadingErrorIsWrapped) {
   // b's heading is a full turn ahead of a + dtheta: the wrapped error is 0, not 2 pi.
-  std::unique_ptr<ceres::CostFunction> cost(OdometryResidual::create(0.0, 0.2, 1.0, 1.0, 1.0));
+  std::unique_ptr<ceres::CostFunction> cost(
+      OdometryResidual::create(Eigen::Vector3d(0.0, 0.0, 0.2), 1.0, Eigen::Matrix3d::Identity()));
   const double a[3] = {0.0, 0.0, 3.0};
   const double b[3] = {0.0, 0.0, 3.0 + 0.2 + 2 * M_PI};
-  EXPECT_NEAR(evaluate(*cost, {a, b})[2], 0.0, kValueTolerance);
+  const double uncalibrated[2] = {1.0, 0.0};
+  EXPECT_NEAR(evaluate(*cost, {a, b, uncalibrated})[2], 0.0, kValueTolerance);
 }
 
 TEST(BatchResiduals, RangeValuesByHand) {
@@ -56,13 +75,17 @@ TEST(BatchResiduals, RangeValuesByHand) {
   const double pose[3] = {1.0, 1.0, 0.7};
   const double beacon[2] = {4.0, 5.0};
   const double calibration[2] = {1.1, 0.2};
-  EXPECT_NEAR(evaluate(*at_pose, {pose, beacon, calibration})[0], 2.0, kValueTolerance);
+  const double no_offset[1] = {0.0};
+  EXPECT_NEAR(evaluate(*at_pose, {pose, beacon, calibration, no_offset})[0], 2.0, kValueTolerance);
 
   // The same robot position as a quarter of the way from (0, 1) to (4, 1).
   std::unique_ptr<ceres::CostFunction> along(RangeAlongStepResidual::create(5.2, 0.25, 0.25));
   const double a[3] = {0.0, 1.0, 0.0};
   const double b[3] = {4.0, 1.0, 0.0};
-  EXPECT_NEAR(evaluate(*along, {a, b, beacon, calibration})[0], 2.0, kValueTolerance);
+  EXPECT_NEAR(evaluate(*along, {a, b, beacon, calibration, no_offset})[0], 2.0, kValueTolerance);
+  // A per-beacon offset of -0.5 m cancels the error.
+  const double beacon_offset[1] = {-0.5};
+  EXPECT_NEAR(evaluate(*along, {a, b, beacon, calibration, beacon_offset})[0], 0.0, kValueTolerance);
 }
 
 // Checks a cost function's Jacobians at a point against central differences of its residuals.
@@ -115,17 +138,19 @@ TEST(BatchResiduals, JacobiansMatchNumericDifferences) {
     // Pose b's heading within 1 rad of a's plus the turn: the wrapped heading error stays away
     // from its (deliberate) jump at +-pi, where numeric differences straddle the cut.
     const double turn_rad = unit(rng) - 0.5;
-    std::unique_ptr<ceres::CostFunction> odometry(
-        OdometryResidual::create(unit(rng), turn_rad, 0.01, 0.02, 0.005));
+    Eigen::Matrix3d sqrt_information;
+    sqrt_information << 100.0, 3.0, -1.0, 0.0, 50.0, 2.0, 0.0, 0.0, 200.0;
+    std::unique_ptr<ceres::CostFunction> odometry(OdometryResidual::create(
+        Eigen::Vector3d(unit(rng), unit(rng) - 0.5, turn_rad), unit(rng), sqrt_information));
     std::vector<double> a = pose();
     std::vector<double> b = pose();
     b[2] = a[2] + turn_rad + 2.0 * unit(rng) - 1.0;
-    checkJacobians(*odometry, {a, b});
+    checkJacobians(*odometry, {a, b, {0.9 + 0.2 * unit(rng), 0.02 * (unit(rng) - 0.5)}});
     std::unique_ptr<ceres::CostFunction> at_pose(RangeAtPoseResidual::create(10.0 * unit(rng), 0.3));
-    checkJacobians(*at_pose, {pose(), {position_m(rng), position_m(rng)}, calibration});
+    checkJacobians(*at_pose, {pose(), {position_m(rng), position_m(rng)}, calibration, {unit(rng) - 0.5}});
     std::unique_ptr<ceres::CostFunction> along(
         RangeAlongStepResidual::create(10.0 * unit(rng), 0.3, unit(rng)));
-    checkJacobians(*along, {pose(), pose(), {position_m(rng), position_m(rng)}, calibration});
+    checkJacobians(*along, {pose(), pose(), {position_m(rng), position_m(rng)}, calibration, {unit(rng) - 0.5}});
   }
 }
 
