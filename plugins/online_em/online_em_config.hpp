@@ -36,6 +36,21 @@ struct OnlineEmConfig {
   double odo_distance_sigma_rel = 0.02;
   double odo_distance_sigma_m = 0.001;
   double odo_heading_sigma_rad = 0.005;
+  // A covariance reported with the odometry is used, each variance floored by the above
+  // (roam::estimation::incrementCovariance): a file that states centimetres for odometry good
+  // to a metre cannot make the filter overconfident.
+  bool use_reported_covariance = true;
+
+  // Odometry calibration in theta: distance scale s (true distance = s * reported) and
+  // heading-rate bias b (rad/s, a gyro bias), estimated in the M-step from the smoothed
+  // increments (the transition density is Gaussian and linear in (s, b): an exact quadratic
+  // M-step, see odometry calibration in online_em_slam.hpp). Priors (pseudo-observations):
+  // s ~ N(1, 0.05^2) (wheel or DVL odometry is good to a few %), b ~ N(0, 0.01^2 rad/s) (a MEMS
+  // gyro's bias is a fraction of a degree per second). calibrate_odometry = false keeps s = 1,
+  // b = 0 for odometry known to be clean.
+  bool calibrate_odometry = true;
+  double distance_scale_prior_sigma = 0.05;
+  double heading_rate_bias_prior_sigma_rad_s = 0.01;
   // Bicycle model (paper Sec. 4.1): sigma_v (m/s), sigma_psi (rad), wheelbase B (m), and a
   // small heading jitter that makes the 2-D control noise a proper 3-D density for smoothing.
   double wheelbase_m = 1.5;

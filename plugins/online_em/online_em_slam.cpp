@@ -43,6 +43,7 @@ OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
   weights_ = Eigen::ArrayXd::Constant(n, 1.0 / n);
   previous_weights_ = weights_;
   statistics_.resize(n, 0);
+  calibration_statistics_ = Eigen::MatrixXd::Zero(n, 2);
   setDiagnostic("num_particles", n);
 }
 
@@ -149,7 +150,7 @@ void OnlineEmSlam::addOdometry(const Odometry& odometry) {
   previous_ = particles_;
   previous_weights_ = weights_;
   resample();
-  motion_.setControl(odometry.forward_m, odometry.delta_heading_rad, dt_s);
+  motion_.setControl(odometry, dt_s, calibration_);
   for (int l = 0; l < n; ++l) motion_.sample(previous_, ancestor_index_[l], &particles_, l, rng_);
 
   // Ranges up to this step's end; later ones wait for their step.
@@ -221,14 +222,18 @@ void OnlineEmSlam::addOdometry(const Odometry& odometry) {
 
   // 2. Stochastic approximation with forward smoothing; 3. M-step.
   smoothStatistics(observations);
-  if (!observations.empty() && ++observing_steps_ % config_.mstep_every == 0) mStep();
+  if (!observations.empty() && ++observing_steps_ % config_.mstep_every == 0) {
+    mStep();
+    calibrationMStep();
+  }
 
   last_utime_ = odometry.utime;
   publish(odometry.utime);
 }
 
 void OnlineEmSlam::smoothStatistics(std::vector<StepObservation>& observations) {
-  if (statistics_.cols() == 0) return;
+  const bool calibrate = config_.calibrate_odometry && config_.motion_model == "odometry";
+  if (statistics_.cols() == 0 && !calibrate) return;
   const int n = config_.num_particles;
   // K_kl ∝ w_{t-1}^l m(xi_t^k | xi_{t-1}^l), rows normalised.
   motion_.logKernel(previous_, particles_, previous_weights_.log(), &log_kernel_);
@@ -242,6 +247,14 @@ void OnlineEmSlam::smoothStatistics(std::vector<StepObservation>& observations) 
   setDiagnostic("smoothing_effective_predecessors", sum_effective_predecessors_ / smoothing_steps_);
   transported_.noalias() = kernel_ * statistics_;
   statistics_.swap(transported_);
+  if (calibrate) {
+    ++motion_steps_;
+    const double gamma = std::min(1.0, config_.step_c / std::pow(static_cast<double>(motion_steps_), config_.step_alpha));
+    Eigen::Matrix2d information;
+    motion_.calibrationStatistic(previous_, particles_, kernel_, &information, &step_calibration_vector_);
+    calibration_statistics_ = (1.0 - gamma) * (kernel_ * calibration_statistics_) + gamma * step_calibration_vector_;
+    calibration_information_ = (1.0 - gamma) * calibration_information_ + gamma * information;
+  }
 
   double stat[kStatSize];
   for (StepObservation& obs : observations) {
@@ -392,6 +405,26 @@ void OnlineEmSlam::mStep() {
   setDiagnostic("range_offset_m", range_offset_m_);
   setDiagnostic("landmarks_initialised", num);
   emitMap(currentMap());
+}
+
+void OnlineEmSlam::calibrationMStep() {
+  if (!config_.calibrate_odometry || config_.motion_model != "odometry" || motion_steps_ == 0) return;
+  const double n = static_cast<double>(motion_steps_);
+  const double ps = 1.0 / (config_.distance_scale_prior_sigma * config_.distance_scale_prior_sigma);
+  const double pb = 1.0 / (config_.heading_rate_bias_prior_sigma_rad_s * config_.heading_rate_bias_prior_sigma_rad_s);
+  Eigen::Matrix2d h = n * calibration_information_;
+  h(0, 0) += ps;
+  h(1, 1) += pb;
+  Eigen::Vector2d g = n * (calibration_statistics_.transpose() * weights_.matrix());
+  g[0] += ps * 1.0;
+  const Eigen::LDLT<Eigen::Matrix2d> ldlt(h);
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return;
+  const Eigen::Vector2d x = ldlt.solve(g);
+  if (!x.allFinite()) return;
+  calibration_.distance_scale = x[0];
+  calibration_.heading_rate_bias_rad_s = x[1];
+  setDiagnostic("odometry_distance_scale", x[0]);
+  setDiagnostic("heading_rate_bias_rad_s", x[1]);
 }
 
 Map OnlineEmSlam::currentMap() const {

@@ -26,6 +26,14 @@
 //     prior (surveyed beacons; scale ~ N(1, .), offset ~ N(0, .)) keeps its weight as
 //     pseudo-observations instead of being forgotten by the step sizes.
 //
+// Odometry calibration (s, b) (calibrate_odometry): the transition density is Gaussian in the
+// increment error e = z - J (s, b) (motion_model.hpp), so its complete-data log-likelihood is
+// quadratic in (s, b) with statistic (J^T W J, J^T W z). J^T W J does not depend on the poses (a
+// running average); J^T W z is a pair-of-poses additive functional, smoothed by the same kernel:
+//   c_t^k = (1 - g_t) [K c_{t-1}]^k + g_t J^T W sum_l K_kl z_kl,   g_t = c / t^alpha (t: steps).
+// M-step: (t A + P) (s, b) = t sum_k w^k c^k + P (1, 0), with the priors P as pseudo-observations.
+// The particles are propagated with the current (s, b) (the prior kernel m_theta).
+//
 // Range scale and offset: UWB ranges are often long by a few % (Plaza 1: 7 %); without (s, b) in
 // theta the map expands to fit them. r = s |m - p| + b is linearised in (m, s, b) like the rest.
 //
@@ -65,6 +73,7 @@ class OnlineEmSlam : public Estimator {
   Map currentMap() const;
   double rangeScale() const { return range_scale_; }
   double rangeOffset() const { return range_offset_m_; }
+  const estimation::OdometryCalibration& odometryCalibration() const { return calibration_; }
   const Path& filteredPath() const { return path_; }
   const ParticlePoses& particles() const { return particles_; }
   const Eigen::ArrayXd& weights() const { return weights_; }
@@ -104,6 +113,7 @@ class OnlineEmSlam : public Estimator {
   double mixtureLogLikelihood(const RangeObservation& y, double x_m, double y_m, double heading_rad,
                               const Eigen::Vector4d& phi_i, double* wide_probability) const;
   void mStep();
+  void calibrationMStep();
   void publish(int64_t utime);
 
   OnlineEmConfig config_;
@@ -122,6 +132,11 @@ class OnlineEmSlam : public Estimator {
   std::vector<Landmark> landmarks_;
   std::map<int, int> index_of_id_;
   double range_scale_ = 1.0, range_offset_m_ = 0.0;
+  estimation::OdometryCalibration calibration_;
+  Eigen::MatrixXd calibration_statistics_;  // N x 2: c_t^k (J^T W z, smoothed and averaged)
+  Eigen::Matrix2d calibration_information_ = Eigen::Matrix2d::Zero();  // averaged J^T W J
+  Eigen::MatrixXd step_calibration_vector_;
+  int64_t motion_steps_ = 0;
   std::vector<Range> queued_ranges_;
   int64_t observing_steps_ = 0;
   Path path_;  // filtered means, one per step (the start pose first)
