@@ -6,6 +6,7 @@
 #include <optional>
 
 #include <Eigen/Dense>
+#include <Eigen/Geometry>
 
 #include "multilateration.hpp"
 #include "roam/options.hpp"
@@ -49,6 +50,7 @@ OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
 
 void OnlineEmSlam::start(const Pose& pose) {
   started_ = true;
+  start_pose_ = pose;
   last_utime_ = pose.utime;
   particles_.x_m.setConstant(pose.x_m);
   particles_.y_m.setConstant(pose.y_m);
@@ -151,6 +153,10 @@ void OnlineEmSlam::addOdometry(const Odometry& odometry) {
   previous_weights_ = weights_;
   resample();
   motion_.setControl(odometry, dt_s, calibration_);
+  if (window_open_) {
+    window_odometry_.push_back(odometry);
+    window_dt_s_.push_back(dt_s);
+  }
   for (int l = 0; l < n; ++l) motion_.sample(previous_, ancestor_index_[l], &particles_, l, rng_);
 
   // Ranges up to this step's end; later ones wait for their step.
@@ -225,6 +231,7 @@ void OnlineEmSlam::addOdometry(const Odometry& odometry) {
   if (!observations.empty() && ++observing_steps_ % config_.mstep_every == 0) {
     mStep();
     calibrationMStep();
+    correctFrame();
   }
 
   last_utime_ = odometry.utime;
@@ -340,6 +347,9 @@ void OnlineEmSlam::tryInitialise(int i) {
   landmark.count = static_cast<int64_t>(positions.size());
   landmark.pending_poses.clear();
   landmark.pending_observations.clear();
+  int initialised = 0;
+  for (const Landmark& l : landmarks_) initialised += l.initialised ? 1 : 0;
+  if (initialised >= 2 && initialised == static_cast<int>(landmarks_.size())) window_open_ = false;
   mStep();
 }
 
@@ -425,6 +435,83 @@ void OnlineEmSlam::calibrationMStep() {
   calibration_.heading_rate_bias_rad_s = x[1];
   setDiagnostic("odometry_distance_scale", x[0]);
   setDiagnostic("heading_rate_bias_rad_s", x[1]);
+}
+
+void OnlineEmSlam::correctFrame() {
+  if (config_.anchor != "start_pose" || !config_.calibrate_odometry || config_.motion_model != "odometry" ||
+      window_open_ || window_odometry_.empty())
+    return;
+  // The window dead-reckoned from the start without and with the calibration.
+  const int m = static_cast<int>(window_odometry_.size());
+  Eigen::Vector3d a(start_pose_.x_m, start_pose_.y_m, start_pose_.heading_rad), b = a;
+  Eigen::Vector2d mean_a = a.head<2>(), mean_b = b.head<2>();
+  std::vector<Eigen::Vector2d> pa{a.head<2>()}, pb{b.head<2>()};
+  for (int j = 0; j < m; ++j) {
+    a = estimation::step(a, estimation::calibratedIncrement(window_odometry_[j], window_dt_s_[j]));
+    b = estimation::step(b, estimation::calibratedIncrement(window_odometry_[j], window_dt_s_[j], calibration_));
+    pa.push_back(a.head<2>());
+    pb.push_back(b.head<2>());
+    mean_a += a.head<2>();
+    mean_b += b.head<2>();
+  }
+  mean_a /= m + 1.0;
+  mean_b /= m + 1.0;
+  double cross = 0.0, dot = 0.0;
+  for (int j = 0; j <= m; ++j) {
+    const Eigen::Vector2d u = pa[j] - mean_a, v = pb[j] - mean_b;
+    dot += u.dot(v);
+    cross += u.x() * v.y() - u.y() * v.x();
+  }
+  const double angle_rad = std::atan2(cross, dot);
+  const Eigen::Vector2d translation_m = mean_b - Eigen::Rotation2Dd(angle_rad) * mean_a;
+  // The part not applied yet: T_d T_a^-1.
+  const double delta_rad = angle_rad - frame_angle_rad_;
+  const Eigen::Vector2d delta_m = translation_m - Eigen::Rotation2Dd(delta_rad) * frame_translation_m_;
+  constexpr double kMinAngle_rad = 1e-4, kMinShift_m = 1e-3;
+  if (std::abs(delta_rad) < kMinAngle_rad && delta_m.norm() < kMinShift_m) return;
+  applyFrameMotion(delta_rad, delta_m);
+  frame_angle_rad_ = angle_rad;
+  frame_translation_m_ = translation_m;
+  setDiagnostic("frame_correction_rad", frame_angle_rad_);
+}
+
+void OnlineEmSlam::applyFrameMotion(double angle_rad, const Eigen::Vector2d& translation_m) {
+  const Eigen::Matrix2d r = Eigen::Rotation2Dd(angle_rad).toRotationMatrix();
+  auto move = [&](double* x, double* y, double* heading) {
+    const Eigen::Vector2d p = r * Eigen::Vector2d(*x, *y) + translation_m;
+    *x = p.x();
+    *y = p.y();
+    if (heading) *heading += angle_rad;
+  };
+  for (int k = 0; k < particles_.size(); ++k)
+    move(&particles_.x_m[k], &particles_.y_m[k], &particles_.heading_rad[k]);
+  for (Pose& pose : path_) move(&pose.x_m, &pose.y_m, &pose.heading_rad);
+  // phi = M phi' + c with M = diag(R^T, 1, 1), c = (-R^T t, 0, 0).
+  Eigen::Matrix4d big_m = Eigen::Matrix4d::Identity();
+  big_m.topLeftCorner<2, 2>() = r.transpose();
+  Eigen::Vector4d c = Eigen::Vector4d::Zero();
+  c.head<2>() = -r.transpose() * translation_m;
+  for (int i = 0; i < static_cast<int>(landmarks_.size()); ++i) {
+    Landmark& landmark = landmarks_[i];
+    for (Eigen::Vector3d& p : landmark.pending_poses) move(&p.x(), &p.y(), &p.z());
+    if (!landmark.initialised) continue;
+    landmark.position_m = r * landmark.position_m + translation_m;
+    landmark.covariance = r * landmark.covariance * r.transpose();
+    for (int k = 0; k < statistics_.rows(); ++k) {
+      double packed[kStatSize];
+      for (int q = 0; q < kStatSize; ++q) packed[q] = statistics_(k, kStatSize * i + q);
+      Eigen::Matrix4d information;
+      Eigen::Vector4d vector;
+      ObservationModel::unpack(packed, &information, &vector);
+      const Eigen::Vector4d v2 = big_m.transpose() * (vector - information * c);
+      const Eigen::Matrix4d a2 = big_m.transpose() * information * big_m;
+      int q = 0;
+      for (int row = 0; row < 4; ++row)
+        for (int col = row; col < 4; ++col) statistics_(k, kStatSize * i + q++) = a2(row, col);
+      for (int row = 0; row < 4; ++row) statistics_(k, kStatSize * i + q++) = v2[row];
+    }
+  }
+  emitMap(currentMap());
 }
 
 Map OnlineEmSlam::currentMap() const {

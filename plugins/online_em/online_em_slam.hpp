@@ -34,6 +34,17 @@
 // M-step: (t A + P) (s, b) = t sum_k w^k c^k + P (1, 0), with the priors P as pseudo-observations.
 // The particles are propagated with the current (s, b) (the prior kernel m_theta).
 //
+// Frame of the start pose (anchor = start_pose, calibrate_odometry): the first landmarks are
+// multilaterated from the path dead-reckoned with the calibration of that time (none), so a
+// heading-rate bias rotates the whole map about the start, and nothing seen later can undo it
+// (a rotation of map and path together fits every later range). The early window, from the
+// start to the second landmark's initialisation, fixes that frame. After each calibration
+// M-step, the rigid motion T (least squares, Procrustes) that takes the window's path
+// dead-reckoned without calibration onto the same path with the current (s, b) is the frame's
+// error; the part of T not yet applied moves landmarks, particles, the buffered poses, the path
+// so far and the landmark statistics (the quadratic in phi re-parametrised exactly:
+// phi = M phi' + c  =>  A' = M^T A M, v' = M^T (v - A c)).
+//
 // Range scale and offset: UWB ranges are often long by a few % (Plaza 1: 7 %); without (s, b) in
 // theta the map expands to fit them. r = s |m - p| + b is linearised in (m, s, b) like the rest.
 //
@@ -114,6 +125,8 @@ class OnlineEmSlam : public Estimator {
                               const Eigen::Vector4d& phi_i, double* wide_probability) const;
   void mStep();
   void calibrationMStep();
+  void correctFrame();
+  void applyFrameMotion(double angle_rad, const Eigen::Vector2d& translation_m);
   void publish(int64_t utime);
 
   OnlineEmConfig config_;
@@ -137,6 +150,14 @@ class OnlineEmSlam : public Estimator {
   Eigen::Matrix2d calibration_information_ = Eigen::Matrix2d::Zero();  // averaged J^T W J
   Eigen::MatrixXd step_calibration_vector_;
   int64_t motion_steps_ = 0;
+  // The early window of the start-pose frame: its odometry and step lengths, open until the
+  // second landmark is initialised; the frame motion applied so far.
+  Pose start_pose_;
+  std::vector<Odometry> window_odometry_;
+  std::vector<double> window_dt_s_;
+  bool window_open_ = true;
+  double frame_angle_rad_ = 0.0;
+  Eigen::Vector2d frame_translation_m_ = Eigen::Vector2d::Zero();
   std::vector<Range> queued_ranges_;
   int64_t observing_steps_ = 0;
   Path path_;  // filtered means, one per step (the start pose first)
