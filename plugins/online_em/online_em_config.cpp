@@ -52,6 +52,10 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
   options.add("beacon_prior_sigma_m", &c->beacon_prior_sigma_m, "surveyed beacon sigma if not given")
       .min(0.0, false);
   options.add("init_min_ranges", &c->init_min_ranges, "ranges before multilateration").min(3);
+  options.add("init_outlier_gate_sigmas", &c->init_outlier_gate_sigmas,
+              "multilateration inlier gate in range sigmas (0: least squares on all)").min(0.0);
+  options.add("init_min_spread_fraction", &c->init_min_spread_fraction,
+              "spread of the ranging positions as a fraction of the median range").min(0.0);
   options.add("init_min_spread_m", &c->init_min_spread_m, "spread of the ranging positions").min(0.0);
 }
 

@@ -184,13 +184,19 @@ void OnlineEmSlam::addOdometry(const Odometry& odometry) {
     Landmark& landmark = landmarks_[i];
     if (!landmark.initialised) {
       // Buffer at the particle-mean pose for multilateration.
+      // Its position's spread (RMS distance of the particles from the mean) widens the
+      // multilateration's inlier gate.
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      double square_sum = 0.0;
       for (int k = 0; k < n; ++k) {
         double x, y, th;
         interpolate(k, obs.fraction, &x, &y, &th);
         mean += Eigen::Vector3d(x, y, th);
+        square_sum += x * x + y * y;
       }
-      landmark.pending_poses.push_back(mean / n);
+      mean /= n;
+      landmark.pending_poses.push_back(mean);
+      landmark.pending_sigma_m.push_back(std::sqrt(std::max(0.0, square_sum / n - mean.head<2>().squaredNorm())));
       landmark.pending_observations.push_back(obs.y);
       tryInitialise(i);
       continue;
@@ -320,10 +326,23 @@ void OnlineEmSlam::tryInitialise(int i) {
                                                                 std::sin(pose.z() + last.bearing_rad));
     positions = {positions.back()};
     landmark.pending_poses = {landmark.pending_poses.back()};
+    landmark.pending_sigma_m = {landmark.pending_sigma_m.back()};
     landmark.pending_observations = {last};
   } else {
     if (static_cast<int>(landmark.pending_poses.size()) < config_.init_min_ranges) return;
-    position = multilaterate(positions, ranges, config_.init_min_spread_m);
+    // Inliers: within 3 sigma of the range noise (the range's own sigma if given), at least 1 m
+    // for the dead-reckoned positions the ranges were taken from.
+    const double sr = last.sigma_m > 0.0 ? last.sigma_m : config_.range_sigma_m;
+    const double sp = *std::max_element(landmark.pending_sigma_m.begin(), landmark.pending_sigma_m.end());
+    // The spread must also be a fraction of the distance to the beacon, or a path noisy about a
+    // line fits the mirror image as well (an AUV's first straight lane, hundreds of metres away).
+    std::vector<double> sorted = ranges;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const double min_spread_m =
+        std::max(config_.init_min_spread_m, config_.init_min_spread_fraction * sorted[sorted.size() / 2]);
+    const double gate = config_.init_outlier_gate_sigmas;
+    position = multilaterate(positions, ranges, min_spread_m,
+                             gate > 0.0 ? std::max(1.0, gate * std::hypot(sr, sp)) : 0.0);
   }
   if (!position) return;
   landmark.initialised = true;
@@ -347,6 +366,7 @@ void OnlineEmSlam::tryInitialise(int i) {
   landmark.count = static_cast<int64_t>(positions.size());
   landmark.pending_poses.clear();
   landmark.pending_observations.clear();
+  landmark.pending_sigma_m.clear();
   int initialised = 0;
   for (const Landmark& l : landmarks_) initialised += l.initialised ? 1 : 0;
   if (initialised >= 2 && initialised == static_cast<int>(landmarks_.size())) window_open_ = false;
@@ -462,8 +482,14 @@ void OnlineEmSlam::correctFrame() {
     dot += u.dot(v);
     cross += u.x() * v.y() - u.y() * v.x();
   }
-  const double angle_rad = std::atan2(cross, dot);
-  const Eigen::Vector2d translation_m = mean_b - Eigen::Rotation2Dd(angle_rad) * mean_a;
+  double angle_rad = std::atan2(cross, dot);
+  Eigen::Vector2d translation_m = mean_b - Eigen::Rotation2Dd(angle_rad) * mean_a;
+  // Significant only beyond twice the heading uncertainty the window's own noise gives the
+  // frame (sigma_h sqrt(steps)); below it the frame stays where the data put it.
+  if (std::abs(angle_rad) < 2.0 * config_.odo_heading_sigma_rad * std::sqrt(static_cast<double>(m))) {
+    angle_rad = 0.0;
+    translation_m.setZero();
+  }
   // The part not applied yet: T_d T_a^-1.
   const double delta_rad = angle_rad - frame_angle_rad_;
   const Eigen::Vector2d delta_m = translation_m - Eigen::Rotation2Dd(delta_rad) * frame_translation_m_;

@@ -101,6 +101,7 @@ class OnlineEmSlam : public Estimator {
     Eigen::Matrix2d prior_information = Eigen::Matrix2d::Zero();
     // Ranges waiting for multilateration: mean robot pose and the observation.
     std::vector<Eigen::Vector3d> pending_poses;
+    std::vector<double> pending_sigma_m;  // particle spread of each pending position
     std::vector<RangeObservation> pending_observations;
   };
   // An observation of an initialised landmark at this step, with its interpolation fraction
