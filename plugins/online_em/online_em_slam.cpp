@@ -184,19 +184,13 @@ void OnlineEmSlam::addOdometry(const Odometry& odometry) {
     Landmark& landmark = landmarks_[i];
     if (!landmark.initialised) {
       // Buffer at the particle-mean pose for multilateration.
-      // Its position's spread (RMS distance of the particles from the mean) widens the
-      // multilateration's inlier gate.
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      double square_sum = 0.0;
       for (int k = 0; k < n; ++k) {
         double x, y, th;
         interpolate(k, obs.fraction, &x, &y, &th);
         mean += Eigen::Vector3d(x, y, th);
-        square_sum += x * x + y * y;
       }
-      mean /= n;
-      landmark.pending_poses.push_back(mean);
-      landmark.pending_sigma_m.push_back(std::sqrt(std::max(0.0, square_sum / n - mean.head<2>().squaredNorm())));
+      landmark.pending_poses.push_back(mean / n);
       landmark.pending_observations.push_back(obs.y);
       tryInitialise(i);
       continue;
@@ -326,14 +320,12 @@ void OnlineEmSlam::tryInitialise(int i) {
                                                                 std::sin(pose.z() + last.bearing_rad));
     positions = {positions.back()};
     landmark.pending_poses = {landmark.pending_poses.back()};
-    landmark.pending_sigma_m = {landmark.pending_sigma_m.back()};
     landmark.pending_observations = {last};
   } else {
     if (static_cast<int>(landmark.pending_poses.size()) < config_.init_min_ranges) return;
     // Inliers: within 3 sigma of the range noise (the range's own sigma if given), at least 1 m
     // for the dead-reckoned positions the ranges were taken from.
     const double sr = last.sigma_m > 0.0 ? last.sigma_m : config_.range_sigma_m;
-    const double sp = *std::max_element(landmark.pending_sigma_m.begin(), landmark.pending_sigma_m.end());
     // The spread must also be a fraction of the distance to the beacon, or a path noisy about a
     // line fits the mirror image as well (an AUV's first straight lane, hundreds of metres away).
     std::vector<double> sorted = ranges;
@@ -342,7 +334,7 @@ void OnlineEmSlam::tryInitialise(int i) {
         std::max(config_.init_min_spread_m, config_.init_min_spread_fraction * sorted[sorted.size() / 2]);
     const double gate = config_.init_outlier_gate_sigmas;
     position = multilaterate(positions, ranges, min_spread_m,
-                             gate > 0.0 ? std::max(1.0, gate * std::hypot(sr, sp)) : 0.0);
+                             gate > 0.0 ? std::max(1.0, gate * sr) : 0.0);
   }
   if (!position) return;
   landmark.initialised = true;
@@ -366,7 +358,6 @@ void OnlineEmSlam::tryInitialise(int i) {
   landmark.count = static_cast<int64_t>(positions.size());
   landmark.pending_poses.clear();
   landmark.pending_observations.clear();
-  landmark.pending_sigma_m.clear();
   int initialised = 0;
   for (const Landmark& l : landmarks_) initialised += l.initialised ? 1 : 0;
   if (initialised >= 2 && initialised == static_cast<int>(landmarks_.size())) window_open_ = false;

@@ -43,7 +43,12 @@
 // dead-reckoned without calibration onto the same path with the current (s, b) is the frame's
 // error; the part of T not yet applied moves landmarks, particles, the buffered poses, the path
 // so far and the landmark statistics (the quadratic in phi re-parametrised exactly:
-// phi = M phi' + c  =>  A' = M^T A M, v' = M^T (v - A c)).
+// phi = M phi' + c  =>  A' = M^T A M, v' = M^T (v - A c)). A rotation within twice the heading
+// noise of the window (sigma_h sqrt(steps)) is not significant and is not applied (Plaza 1's
+// learned b ~ 3e-4 rad/s would otherwise turn a correct frame by 0.025 rad).
+//
+// Robust initialisation (multilateration.hpp): a consensus of range triples with an inlier gate
+// of 3 sr (at least 1 m).
 //
 // Range scale and offset: UWB ranges are often long by a few % (Plaza 1: 7 %); without (s, b) in
 // theta the map expands to fit them. r = s |m - p| + b is linearised in (m, s, b) like the rest.
@@ -101,7 +106,6 @@ class OnlineEmSlam : public Estimator {
     Eigen::Matrix2d prior_information = Eigen::Matrix2d::Zero();
     // Ranges waiting for multilateration: mean robot pose and the observation.
     std::vector<Eigen::Vector3d> pending_poses;
-    std::vector<double> pending_sigma_m;  // particle spread of each pending position
     std::vector<RangeObservation> pending_observations;
   };
   // An observation of an initialised landmark at this step, with its interpolation fraction
