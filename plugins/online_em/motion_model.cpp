@@ -3,16 +3,38 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
 namespace roam {
 
-void MotionModel::setControl(double distance_m, double dheading_rad, double dt_s) {
+void MotionModel::setControl(const Odometry& odometry, double dt_s,
+                             const estimation::OdometryCalibration& calibration) {
   bicycle_ = config_.motion_model == "bicycle";
+  const double distance_m = odometry.forward_m, dheading_rad = odometry.delta_heading_rad;
   distance_m_ = distance_m;
   dheading_rad_ = dheading_rad;
   if (!bicycle_) {
-    sigma_forward_m_ = config_.odo_distance_sigma_rel * std::abs(distance_m) + config_.odo_distance_sigma_m;
-    sigma_lateral_m_ = sigma_forward_m_;
-    sigma_heading_rad_ = config_.odo_heading_sigma_rad;
+    raw_ = odometry;
+    dt_s_ = dt_s;
+    increment_ = estimation::calibratedIncrement(odometry, dt_s, calibration);
+    estimation::MotionNoise noise;
+    noise.distance_fraction = config_.odo_distance_sigma_rel;
+    noise.min_sigma_m = config_.odo_distance_sigma_m;
+    noise.heading_rad_per_m = 0.0;
+    noise.heading_rad_per_sqrt_s = 0.0;
+    noise.min_sigma_rad = config_.odo_heading_sigma_rad;
+    noise.use_reported_covariance = config_.use_reported_covariance;
+    const Eigen::Matrix3d covariance = estimation::incrementCovariance(odometry, dt_s, noise);
+    const Eigen::LLT<Eigen::Matrix3d> llt(covariance);
+    if (llt.info() == Eigen::Success) {
+      noise_factor_ = llt.matrixL();
+      information_ = llt.solve(Eigen::Matrix3d::Identity());
+    } else {  // not positive definite: its diagonal
+      const Eigen::Vector3d variance = covariance.diagonal().cwiseMax(1e-12);
+      noise_factor_ = variance.cwiseSqrt().asDiagonal();
+      information_ = variance.cwiseInverse().asDiagonal();
+    }
     return;
   }
   // dth = d sin(psi) / B  =>  psi = asin(B dth / d); no direction when standing still.
@@ -28,13 +50,15 @@ void MotionModel::sample(const ParticlePoses& previous, int from, ParticlePoses*
   std::normal_distribution<double> normal(0.0, 1.0);
   const double x = previous.x_m[from], y = previous.y_m[from], th = previous.heading_rad[from];
   if (!bicycle_) {
-    const double forward_m = distance_m_ + sigma_forward_m_ * normal(rng);
-    const double lateral_m = sigma_lateral_m_ * normal(rng);
-    const double dth = dheading_rad_ + sigma_heading_rad_ * normal(rng);
-    const double c = std::cos(th), s = std::sin(th);
-    next->x_m[to] = x + forward_m * c - lateral_m * s;
-    next->y_m[to] = y + forward_m * s + lateral_m * c;
-    next->heading_rad[to] = th + dth;
+    Eigen::Vector3d white;
+    for (int i = 0; i < 3; ++i) white[i] = normal(rng);
+    const Eigen::Vector3d increment = increment_ + noise_factor_ * white;
+    const double pose[3] = {x, y, th};
+    double out[3];
+    estimation::composeIncrement(pose, increment.data(), out);
+    next->x_m[to] = out[0];
+    next->y_m[to] = out[1];
+    next->heading_rad[to] = out[2];
     return;
   }
   const double step_m = distance_m_ + sigma_step_m_ * normal(rng);
@@ -49,23 +73,23 @@ void MotionModel::logKernel(const ParticlePoses& previous, const ParticlePoses& 
                             const Eigen::ArrayXd& log_weight, Eigen::MatrixXd* log_kernel) const {
   const int n_next = next.size(), n_prev = previous.size();
   log_kernel->resize(n_next, n_prev);
-  const double inv_h2 = 1.0 / (sigma_heading_rad_ * sigma_heading_rad_);
   if (!bicycle_) {
-    const double inv_f2 = 1.0 / (sigma_forward_m_ * sigma_forward_m_);
-    const double inv_l2 = 1.0 / (sigma_lateral_m_ * sigma_lateral_m_);
+    const Eigen::Matrix3d& w = information_;
     for (int l = 0; l < n_prev; ++l) {
       const double c = std::cos(previous.heading_rad[l]), s = std::sin(previous.heading_rad[l]);
       const Eigen::ArrayXd dx = next.x_m - previous.x_m[l];
       const Eigen::ArrayXd dy = next.y_m - previous.y_m[l];
-      const Eigen::ArrayXd e_f = c * dx + s * dy - distance_m_;
-      const Eigen::ArrayXd e_l = c * dy - s * dx;
-      const Eigen::ArrayXd e_h = next.heading_rad - (previous.heading_rad[l] + dheading_rad_);
+      const Eigen::ArrayXd e_f = c * dx + s * dy - increment_[0];
+      const Eigen::ArrayXd e_l = c * dy - s * dx - increment_[1];
+      const Eigen::ArrayXd e_h = next.heading_rad - previous.heading_rad[l] - increment_[2];
       log_kernel->col(l) =
-          (log_weight[l] - 0.5 * (e_f.square() * inv_f2 + e_l.square() * inv_l2 + e_h.square() * inv_h2))
+          (log_weight[l] - 0.5 * (w(0, 0) * e_f.square() + w(1, 1) * e_l.square() + w(2, 2) * e_h.square() +
+                                  2.0 * (w(0, 1) * e_f * e_l + w(0, 2) * e_f * e_h + w(1, 2) * e_l * e_h)))
               .matrix();
     }
     return;
   }
+  const double inv_h2 = 1.0 / (sigma_heading_rad_ * sigma_heading_rad_);
   const double inv_d2 = 1.0 / (sigma_step_m_ * sigma_step_m_);
   const double inv_s2 = 1.0 / (config_.steer_sigma_rad * config_.steer_sigma_rad);
   for (int l = 0; l < n_prev; ++l) {
@@ -78,6 +102,30 @@ void MotionModel::logKernel(const ParticlePoses& previous, const ParticlePoses& 
                          step_m * std::sin(steer_rad) / config_.wheelbase_m;
       (*log_kernel)(k, l) = log_weight[l] - 0.5 * (e_d * e_d * inv_d2 + e_s * e_s * inv_s2 + e_h * e_h * inv_h2);
     }
+  }
+}
+
+void MotionModel::calibrationStatistic(const ParticlePoses& previous, const ParticlePoses& next,
+                                       const Eigen::MatrixXd& kernel, Eigen::Matrix2d* information,
+                                       Eigen::MatrixXd* vector) const {
+  // J = [[u, 0], [v, 0], [0, -dt]] (raw increment), z_kl = (R_l^T (p_k - p_l), th_k - th_l - w).
+  Eigen::Matrix<double, 3, 2> j;
+  j << raw_.forward_m, 0.0, raw_.lateral_m, 0.0, 0.0, -dt_s_;
+  const Eigen::Matrix<double, 2, 3> jtw = j.transpose() * information_;
+  *information = jtw * j;
+  const int n_next = next.size();
+  // sum_l K_kl z_kl, with R_l^T (p_k - p_l) = (c_l x_k + s_l y_k - (c_l x_l + s_l y_l), ...).
+  const Eigen::ArrayXd c = previous.heading_rad.cos(), s = previous.heading_rad.sin();
+  const Eigen::VectorXd kc = kernel * c.matrix(), ks = kernel * s.matrix();
+  const Eigen::VectorXd kf = kernel * (c * previous.x_m + s * previous.y_m).matrix();
+  const Eigen::VectorXd kl = kernel * (c * previous.y_m - s * previous.x_m).matrix();
+  const Eigen::VectorXd kh = kernel * previous.heading_rad.matrix();
+  vector->resize(n_next, 2);
+  for (int k = 0; k < n_next; ++k) {
+    const Eigen::Vector3d z(kc[k] * next.x_m[k] + ks[k] * next.y_m[k] - kf[k],
+                            kc[k] * next.y_m[k] - ks[k] * next.x_m[k] - kl[k],
+                            next.heading_rad[k] - kh[k] - raw_.delta_heading_rad);
+    vector->row(k) = (jtw * z).transpose();
   }
 }
 

@@ -2,11 +2,15 @@
 // m(x_t | x_{t-1}, u_t) (the proposal, as in the paper's Sec. 4.1) and its log density, which
 // the forward-smoothing recursion evaluates for every (new particle, old particle) pair.
 //
-// "odometry" (move then turn, roam's dead-reckoning convention):
-//   x_t = x + (d + e_f) cos(th) - e_l sin(th),  y_t = y + (d + e_f) sin(th) + e_l cos(th),
-//   th_t = th + dth + e_h,  e_f, e_l ~ N(0, (rel d + abs)^2),  e_h ~ N(0, sigma_h^2).
-//   log m = -1/2 (e_f^2 / s_f^2 + e_l^2 / s_l^2 + e_h^2 / s_h^2) + const, with (e_f, e_l) the
-//   displacement in the old pose's frame minus (d, 0), e_h = th_t - th - dth.
+// "odometry" (roam's shared SE(2) model, roam::estimation::composeIncrement): the calibrated
+//   increment q = calibratedIncrement(u, dt, (s, b)) = (s u, s v, w - b dt) of the reported
+//   (forward u, lateral v, turn w) plus noise e ~ N(0, Q), Q = incrementCovariance (the
+//   configured rates, or the reported covariance floored by them):
+//     x_t = x (+) (q + e),   i.e. p_t = p + R(th) (q_uv + e_uv),  th_t = th + q_w + e_w.
+//   The inverse is exact: e = (R(th)^T (p_t - p), th_t - th) - q, so
+//   log m = -1/2 e^T Q^-1 e + const (a proper density on the 3-D pose).
+//   Calibration statistic (odometry_calibration.hpp): e is linear in (s, b),
+//     e = z - J (s, b),  z = (R(th)^T (p_t - p), th_t - th - w),  J = [[u, 0], [v, 0], [0, -dt]].
 // "bicycle" (the paper's f, wheelbase B): controls (v, psi) from (d, dth) = (v dt, v dt sin(psi)/B),
 //   noisy controls v^ = v + e_v, psi^ = psi + e_psi, Q = diag(sigma_v^2, sigma_psi^2):
 //   x_t = x + v^ dt cos(th + psi^),  y_t = y + v^ dt sin(th + psi^),  th_t = th + v^ dt sin(psi^)/B
@@ -20,6 +24,8 @@
 #include <Eigen/Core>
 
 #include "online_em_config.hpp"
+#include "roam/estimation/motion_model.hpp"
+#include "roam/types.hpp"
 
 namespace roam {
 
@@ -38,8 +44,8 @@ class MotionModel {
  public:
   explicit MotionModel(const OnlineEmConfig& config) : config_(config) {}
 
-  // Sets the control of the step: distance and heading change, over dt_s seconds.
-  void setControl(double distance_m, double dheading_rad, double dt_s);
+  // Sets the control of the step (odometry over dt_s seconds) and the odometry calibration.
+  void setControl(const Odometry& odometry, double dt_s, const estimation::OdometryCalibration& calibration);
 
   // Draws the new pose of particle `to` from old particle `from` of `previous`.
   void sample(const ParticlePoses& previous, int from, ParticlePoses* next, int to,
@@ -50,11 +56,23 @@ class MotionModel {
   void logKernel(const ParticlePoses& previous, const ParticlePoses& next,
                  const Eigen::ArrayXd& log_weight, Eigen::MatrixXd* log_kernel) const;
 
+  // Calibration statistic of the step (odometry model): for every new particle k,
+  // J^T W sum_l K_kl z_kl (a row of `vector`, 2 columns), with K the row-stochastic smoothing
+  // kernel; and the deterministic J^T W J of the step in `information`.
+  void calibrationStatistic(const ParticlePoses& previous, const ParticlePoses& next,
+                            const Eigen::MatrixXd& kernel, Eigen::Matrix2d* information,
+                            Eigen::MatrixXd* vector) const;
+
  private:
   const OnlineEmConfig& config_;
   bool bicycle_ = false;
-  double distance_m_ = 0.0, dheading_rad_ = 0.0;
-  double sigma_forward_m_ = 0.0, sigma_lateral_m_ = 0.0, sigma_heading_rad_ = 0.0;
+  double distance_m_ = 0.0, dheading_rad_ = 0.0, sigma_heading_rad_ = 0.0;
+  // Odometry model: the step's raw and calibrated increments, dt, the noise's Cholesky factor
+  // (sampling) and information matrix (density).
+  Odometry raw_;
+  double dt_s_ = 0.0;
+  Eigen::Vector3d increment_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d noise_factor_ = Eigen::Matrix3d::Zero(), information_ = Eigen::Matrix3d::Identity();
   double steer_rad_ = 0.0, sigma_step_m_ = 0.0;  // bicycle: psi and sigma_v dt
 };
 

@@ -17,6 +17,14 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
       .min(0.0, false);
   options.add("odo_heading_sigma_rad", &c->odo_heading_sigma_rad, "heading noise per step")
       .min(0.0, false);
+  options.add("use_reported_covariance", &c->use_reported_covariance,
+              "use the odometry's own covariance, floored by the configured noise");
+  options.add("calibrate_odometry", &c->calibrate_odometry,
+              "estimate the distance scale and heading-rate bias in the M-step");
+  options.add("distance_scale_prior_sigma", &c->distance_scale_prior_sigma, "prior sigma of the distance scale around 1")
+      .min(0.0, false);
+  options.add("heading_rate_bias_prior_sigma_rad_s", &c->heading_rate_bias_prior_sigma_rad_s,
+              "prior sigma of the heading-rate bias around 0").min(0.0, false);
   options.add("wheelbase_m", &c->wheelbase_m, "bicycle model wheelbase").min(0.0, false);
   options.add("speed_sigma_mps", &c->speed_sigma_mps, "bicycle model speed noise").min(0.0, false);
   options.add("steer_sigma_rad", &c->steer_sigma_rad, "bicycle model steering noise").min(0.0, false);
@@ -44,6 +52,10 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
   options.add("beacon_prior_sigma_m", &c->beacon_prior_sigma_m, "surveyed beacon sigma if not given")
       .min(0.0, false);
   options.add("init_min_ranges", &c->init_min_ranges, "ranges before multilateration").min(3);
+  options.add("init_outlier_gate_sigmas", &c->init_outlier_gate_sigmas,
+              "multilateration inlier gate in range sigmas (0: least squares on all)").min(0.0);
+  options.add("init_min_spread_fraction", &c->init_min_spread_fraction,
+              "spread of the ranging positions as a fraction of the median range").min(0.0);
   options.add("init_min_spread_m", &c->init_min_spread_m, "spread of the ranging positions").min(0.0);
 }
 

@@ -36,6 +36,21 @@ struct OnlineEmConfig {
   double odo_distance_sigma_rel = 0.02;
   double odo_distance_sigma_m = 0.001;
   double odo_heading_sigma_rad = 0.005;
+  // A covariance reported with the odometry is used, each variance floored by the above
+  // (roam::estimation::incrementCovariance): a file that states centimetres for odometry good
+  // to a metre cannot make the filter overconfident.
+  bool use_reported_covariance = true;
+
+  // Odometry calibration in theta: distance scale s (true distance = s * reported) and
+  // heading-rate bias b (rad/s, a gyro bias), estimated in the M-step from the smoothed
+  // increments (the transition density is Gaussian and linear in (s, b): an exact quadratic
+  // M-step, see odometry calibration in online_em_slam.hpp). Priors (pseudo-observations):
+  // s ~ N(1, 0.05^2) (wheel or DVL odometry is good to a few %), b ~ N(0, 0.01^2 rad/s) (a MEMS
+  // gyro's bias is a fraction of a degree per second). calibrate_odometry = false keeps s = 1,
+  // b = 0 for odometry known to be clean.
+  bool calibrate_odometry = true;
+  double distance_scale_prior_sigma = 0.05;
+  double heading_rate_bias_prior_sigma_rad_s = 0.01;
   // Bicycle model (paper Sec. 4.1): sigma_v (m/s), sigma_psi (rad), wheelbase B (m), and a
   // small heading jitter that makes the 2-D control noise a proper 3-D density for smoothing.
   double wheelbase_m = 1.5;
@@ -47,16 +62,25 @@ struct OnlineEmConfig {
   // [rho, sb^2]] (range-only: sr^2). Defaults: the paper's Sec. 4.1 values (w0 0.8, sigma0 1,
   // sigma1 5, sr 0.5 m, sb pi/60 rad, rho 0.01): 0.5 m is the usual UWB ranging accuracy and the
   // wide component absorbs multipath outliers. A range's own sigma (> 0) replaces sr.
+  // The wide component is the outlier model (issue 15: 10-50 % non-line-of-sight ranges, metres
+  // to tens of metres long; acoustic echoes hundreds): sigma1 = 20 sr (10 m at sr 0.5 m; 15 m
+  // at GOATS' stated 0.75 m) covers NLOS excesses of a few to ~30 m, while its statistics weigh
+  // 1/400 of an inlier's in the M-step. The paper's 5 sr (2.5 m) treats a 10 m NLOS range as a
+  // 4-sigma inlier of the wide component and pulls the map (30 % NLOS synthetic: beacon anchor
+  // 7.8 m path error; 20 sr: 0.16 m).
   double mixture_weight0 = 0.8;
   double mixture_sigma0 = 1.0;
-  double mixture_sigma1 = 5.0;
+  double mixture_sigma1 = 20.0;
   double range_sigma_m = 0.5;
   double bearing_sigma_rad = 0.05235987755982988;  // pi / 60
   double range_bearing_cov = 0.01;
   // Mixture indicators: "sampled" (Algorithm 1: I ~ Bernoulli(w1) per particle, the weight and
   // the statistic use the sampled component) or "marginal" (Rao-Blackwellised: the weight uses
   // the mixture likelihood, the statistic the posterior probabilities of the two components).
-  std::string indicators = "sampled";
+  // Default marginal: with sampled indicators only ~20 % of the particles carry the wide
+  // component for a given outlier and the weights collapse onto them (30 % NLOS synthetic:
+  // beacon anchor: minimum ESS 4 of 100 with sampled, 51 with marginal).
+  std::string indicators = "marginal";
 
   // Stochastic approximation: gamma_n = c / n^alpha per landmark, n = its own observation count.
   double step_c = 1.0;
@@ -83,6 +107,16 @@ struct OnlineEmConfig {
   // so that the mirror ambiguity of a straight path is resolved.
   int init_min_ranges = 12;
   double init_min_spread_m = 3.0;
+  // ... and at least this fraction of the median range: the positions must subtend a few
+  // degrees (0.05: ~3 deg) seen from the beacon. Plaza's 10-40 m ranges keep the 3 m floor;
+  // an AUV 300 m from a beacon waits for 15 m of spread.
+  double init_min_spread_fraction = 0.05;
+  // Multilateration robust to outliers: every triple of ranges proposes a position; the one
+  // with the most ranges within gate * sr (the range's sigma, or range_sigma_m; at least 1 m)
+  // wins and is refined on them. 3 sigma: a Gaussian inlier passes with 99.7 %. (Widening the
+  // gate by the particles' spread was tried: the 30 % NLOS start-pose run went 0.53 -> 3.8 m.)
+  // 0: plain least squares on every range.
+  double init_outlier_gate_sigmas = 3.0;
 };
 
 // Registers every key (with its check) on `options`, bound to `config`.

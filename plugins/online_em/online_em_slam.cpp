@@ -6,6 +6,7 @@
 #include <optional>
 
 #include <Eigen/Dense>
+#include <Eigen/Geometry>
 
 #include "multilateration.hpp"
 #include "roam/options.hpp"
@@ -43,11 +44,13 @@ OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
   weights_ = Eigen::ArrayXd::Constant(n, 1.0 / n);
   previous_weights_ = weights_;
   statistics_.resize(n, 0);
+  calibration_statistics_ = Eigen::MatrixXd::Zero(n, 2);
   setDiagnostic("num_particles", n);
 }
 
 void OnlineEmSlam::start(const Pose& pose) {
   started_ = true;
+  start_pose_ = pose;
   last_utime_ = pose.utime;
   particles_.x_m.setConstant(pose.x_m);
   particles_.y_m.setConstant(pose.y_m);
@@ -149,7 +152,11 @@ void OnlineEmSlam::addOdometry(const Odometry& odometry) {
   previous_ = particles_;
   previous_weights_ = weights_;
   resample();
-  motion_.setControl(odometry.forward_m, odometry.delta_heading_rad, dt_s);
+  motion_.setControl(odometry, dt_s, calibration_);
+  if (window_open_) {
+    window_odometry_.push_back(odometry);
+    window_dt_s_.push_back(dt_s);
+  }
   for (int l = 0; l < n; ++l) motion_.sample(previous_, ancestor_index_[l], &particles_, l, rng_);
 
   // Ranges up to this step's end; later ones wait for their step.
@@ -221,14 +228,19 @@ void OnlineEmSlam::addOdometry(const Odometry& odometry) {
 
   // 2. Stochastic approximation with forward smoothing; 3. M-step.
   smoothStatistics(observations);
-  if (!observations.empty() && ++observing_steps_ % config_.mstep_every == 0) mStep();
+  if (!observations.empty() && ++observing_steps_ % config_.mstep_every == 0) {
+    mStep();
+    calibrationMStep();
+    correctFrame();
+  }
 
   last_utime_ = odometry.utime;
   publish(odometry.utime);
 }
 
 void OnlineEmSlam::smoothStatistics(std::vector<StepObservation>& observations) {
-  if (statistics_.cols() == 0) return;
+  const bool calibrate = config_.calibrate_odometry && config_.motion_model == "odometry";
+  if (statistics_.cols() == 0 && !calibrate) return;
   const int n = config_.num_particles;
   // K_kl ∝ w_{t-1}^l m(xi_t^k | xi_{t-1}^l), rows normalised.
   motion_.logKernel(previous_, particles_, previous_weights_.log(), &log_kernel_);
@@ -242,6 +254,14 @@ void OnlineEmSlam::smoothStatistics(std::vector<StepObservation>& observations) 
   setDiagnostic("smoothing_effective_predecessors", sum_effective_predecessors_ / smoothing_steps_);
   transported_.noalias() = kernel_ * statistics_;
   statistics_.swap(transported_);
+  if (calibrate) {
+    ++motion_steps_;
+    const double gamma = std::min(1.0, config_.step_c / std::pow(static_cast<double>(motion_steps_), config_.step_alpha));
+    Eigen::Matrix2d information;
+    motion_.calibrationStatistic(previous_, particles_, kernel_, &information, &step_calibration_vector_);
+    calibration_statistics_ = (1.0 - gamma) * (kernel_ * calibration_statistics_) + gamma * step_calibration_vector_;
+    calibration_information_ = (1.0 - gamma) * calibration_information_ + gamma * information;
+  }
 
   double stat[kStatSize];
   for (StepObservation& obs : observations) {
@@ -303,7 +323,18 @@ void OnlineEmSlam::tryInitialise(int i) {
     landmark.pending_observations = {last};
   } else {
     if (static_cast<int>(landmark.pending_poses.size()) < config_.init_min_ranges) return;
-    position = multilaterate(positions, ranges, config_.init_min_spread_m);
+    // Inliers: within 3 sigma of the range noise (the range's own sigma if given), at least 1 m
+    // for the dead-reckoned positions the ranges were taken from.
+    const double sr = last.sigma_m > 0.0 ? last.sigma_m : config_.range_sigma_m;
+    // The spread must also be a fraction of the distance to the beacon, or a path noisy about a
+    // line fits the mirror image as well (an AUV's first straight lane, hundreds of metres away).
+    std::vector<double> sorted = ranges;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const double min_spread_m =
+        std::max(config_.init_min_spread_m, config_.init_min_spread_fraction * sorted[sorted.size() / 2]);
+    const double gate = config_.init_outlier_gate_sigmas;
+    position = multilaterate(positions, ranges, min_spread_m,
+                             gate > 0.0 ? std::max(1.0, gate * sr) : 0.0);
   }
   if (!position) return;
   landmark.initialised = true;
@@ -327,6 +358,9 @@ void OnlineEmSlam::tryInitialise(int i) {
   landmark.count = static_cast<int64_t>(positions.size());
   landmark.pending_poses.clear();
   landmark.pending_observations.clear();
+  int initialised = 0;
+  for (const Landmark& l : landmarks_) initialised += l.initialised ? 1 : 0;
+  if (initialised >= 2 && initialised == static_cast<int>(landmarks_.size())) window_open_ = false;
   mStep();
 }
 
@@ -391,6 +425,109 @@ void OnlineEmSlam::mStep() {
   setDiagnostic("range_scale", range_scale_);
   setDiagnostic("range_offset_m", range_offset_m_);
   setDiagnostic("landmarks_initialised", num);
+  emitMap(currentMap());
+}
+
+void OnlineEmSlam::calibrationMStep() {
+  if (!config_.calibrate_odometry || config_.motion_model != "odometry" || motion_steps_ == 0) return;
+  const double n = static_cast<double>(motion_steps_);
+  const double ps = 1.0 / (config_.distance_scale_prior_sigma * config_.distance_scale_prior_sigma);
+  const double pb = 1.0 / (config_.heading_rate_bias_prior_sigma_rad_s * config_.heading_rate_bias_prior_sigma_rad_s);
+  Eigen::Matrix2d h = n * calibration_information_;
+  h(0, 0) += ps;
+  h(1, 1) += pb;
+  Eigen::Vector2d g = n * (calibration_statistics_.transpose() * weights_.matrix());
+  g[0] += ps * 1.0;
+  const Eigen::LDLT<Eigen::Matrix2d> ldlt(h);
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return;
+  const Eigen::Vector2d x = ldlt.solve(g);
+  if (!x.allFinite()) return;
+  calibration_.distance_scale = x[0];
+  calibration_.heading_rate_bias_rad_s = x[1];
+  setDiagnostic("odometry_distance_scale", x[0]);
+  setDiagnostic("heading_rate_bias_rad_s", x[1]);
+}
+
+void OnlineEmSlam::correctFrame() {
+  if (config_.anchor != "start_pose" || !config_.calibrate_odometry || config_.motion_model != "odometry" ||
+      window_open_ || window_odometry_.empty())
+    return;
+  // The window dead-reckoned from the start without and with the calibration.
+  const int m = static_cast<int>(window_odometry_.size());
+  Eigen::Vector3d a(start_pose_.x_m, start_pose_.y_m, start_pose_.heading_rad), b = a;
+  Eigen::Vector2d mean_a = a.head<2>(), mean_b = b.head<2>();
+  std::vector<Eigen::Vector2d> pa{a.head<2>()}, pb{b.head<2>()};
+  for (int j = 0; j < m; ++j) {
+    a = estimation::step(a, estimation::calibratedIncrement(window_odometry_[j], window_dt_s_[j]));
+    b = estimation::step(b, estimation::calibratedIncrement(window_odometry_[j], window_dt_s_[j], calibration_));
+    pa.push_back(a.head<2>());
+    pb.push_back(b.head<2>());
+    mean_a += a.head<2>();
+    mean_b += b.head<2>();
+  }
+  mean_a /= m + 1.0;
+  mean_b /= m + 1.0;
+  double cross = 0.0, dot = 0.0;
+  for (int j = 0; j <= m; ++j) {
+    const Eigen::Vector2d u = pa[j] - mean_a, v = pb[j] - mean_b;
+    dot += u.dot(v);
+    cross += u.x() * v.y() - u.y() * v.x();
+  }
+  double angle_rad = std::atan2(cross, dot);
+  Eigen::Vector2d translation_m = mean_b - Eigen::Rotation2Dd(angle_rad) * mean_a;
+  // Significant only beyond twice the heading uncertainty the window's own noise gives the
+  // frame (sigma_h sqrt(steps)); below it the frame stays where the data put it.
+  if (std::abs(angle_rad) < 2.0 * config_.odo_heading_sigma_rad * std::sqrt(static_cast<double>(m))) {
+    angle_rad = 0.0;
+    translation_m.setZero();
+  }
+  // The part not applied yet: T_d T_a^-1.
+  const double delta_rad = angle_rad - frame_angle_rad_;
+  const Eigen::Vector2d delta_m = translation_m - Eigen::Rotation2Dd(delta_rad) * frame_translation_m_;
+  constexpr double kMinAngle_rad = 1e-4, kMinShift_m = 1e-3;
+  if (std::abs(delta_rad) < kMinAngle_rad && delta_m.norm() < kMinShift_m) return;
+  applyFrameMotion(delta_rad, delta_m);
+  frame_angle_rad_ = angle_rad;
+  frame_translation_m_ = translation_m;
+  setDiagnostic("frame_correction_rad", frame_angle_rad_);
+}
+
+void OnlineEmSlam::applyFrameMotion(double angle_rad, const Eigen::Vector2d& translation_m) {
+  const Eigen::Matrix2d r = Eigen::Rotation2Dd(angle_rad).toRotationMatrix();
+  auto move = [&](double* x, double* y, double* heading) {
+    const Eigen::Vector2d p = r * Eigen::Vector2d(*x, *y) + translation_m;
+    *x = p.x();
+    *y = p.y();
+    if (heading) *heading += angle_rad;
+  };
+  for (int k = 0; k < particles_.size(); ++k)
+    move(&particles_.x_m[k], &particles_.y_m[k], &particles_.heading_rad[k]);
+  for (Pose& pose : path_) move(&pose.x_m, &pose.y_m, &pose.heading_rad);
+  // phi = M phi' + c with M = diag(R^T, 1, 1), c = (-R^T t, 0, 0).
+  Eigen::Matrix4d big_m = Eigen::Matrix4d::Identity();
+  big_m.topLeftCorner<2, 2>() = r.transpose();
+  Eigen::Vector4d c = Eigen::Vector4d::Zero();
+  c.head<2>() = -r.transpose() * translation_m;
+  for (int i = 0; i < static_cast<int>(landmarks_.size()); ++i) {
+    Landmark& landmark = landmarks_[i];
+    for (Eigen::Vector3d& p : landmark.pending_poses) move(&p.x(), &p.y(), &p.z());
+    if (!landmark.initialised) continue;
+    landmark.position_m = r * landmark.position_m + translation_m;
+    landmark.covariance = r * landmark.covariance * r.transpose();
+    for (int k = 0; k < statistics_.rows(); ++k) {
+      double packed[kStatSize];
+      for (int q = 0; q < kStatSize; ++q) packed[q] = statistics_(k, kStatSize * i + q);
+      Eigen::Matrix4d information;
+      Eigen::Vector4d vector;
+      ObservationModel::unpack(packed, &information, &vector);
+      const Eigen::Vector4d v2 = big_m.transpose() * (vector - information * c);
+      const Eigen::Matrix4d a2 = big_m.transpose() * information * big_m;
+      int q = 0;
+      for (int row = 0; row < 4; ++row)
+        for (int col = row; col < 4; ++col) statistics_(k, kStatSize * i + q++) = a2(row, col);
+      for (int row = 0; row < 4; ++row) statistics_(k, kStatSize * i + q++) = v2[row];
+    }
+  }
   emitMap(currentMap());
 }
 

@@ -196,6 +196,80 @@ TEST(OnlineEmNoisy, RangeBearingWithMixtureNoise) {
   EXPECT_LT(mapError(slam.currentMap(), data.beacons), 0.8);
 }
 
+// Gyro drift on a figure-8 (the kind of issue 15's held-out run): 0.01 rad/s of heading-rate
+// bias, 2 % distance noise, 0.003 rad heading noise per step, 6 beacons at 2 Hz.
+sim::SimConfig gyroDriftFigure8(int steps, uint64_t seed) {
+  sim::SimConfig c;
+  c.seed = seed;
+  c.num_steps = steps;
+  c.path = sim::PathKind::kFigureEight;
+  c.loop_radius_m = 12.0;
+  c.num_beacons = 6;
+  c.schedule = sim::RangeSchedule::kRoundRobin;
+  c.range_rate_hz = 2.0;
+  c.range_sigma_m = 0.3;
+  c.odo_distance_sigma_rel = 0.02;
+  c.odo_heading_sigma_rad = 0.003;
+  c.odo_heading_bias_radps = 0.01;
+  return c;
+}
+
+TEST(OnlineEmCalibration, GyroBiasIsLearnedAndTheStartFrameCorrected) {
+  const Dataset data = sim::simulate(gyroDriftFigure8(2500, 7));
+  OnlineEmSlam slam{OnlineEmConfig{}};  // defaults: start_pose, calibrate_odometry = true
+  feed(data, slam);
+  OnlineEmConfig off;
+  off.calibrate_odometry = false;
+  OnlineEmSlam uncalibrated(off);
+  feed(data, uncalibrated);
+  const double mean_m = meanError(slam.filteredPath(), data.ground_truth);
+  const double off_m = meanError(uncalibrated.filteredPath(), data.ground_truth);
+  std::printf("gyro drift: bias %.5f rad/s, scale %.4f, path mean %.3f m (uncalibrated %.3f m)\n",
+              slam.odometryCalibration().heading_rate_bias_rad_s, slam.odometryCalibration().distance_scale,
+              mean_m, off_m);
+  // The simulator adds the bias to the reported turn, so b = +0.01 rad/s; the scale is 1.
+  // Measured (seed 7): b 0.0093 rad/s, s 0.994, path 1.45 m against 19.1 m uncalibrated.
+  EXPECT_NEAR(slam.odometryCalibration().heading_rate_bias_rad_s, 0.01, 0.001);
+  EXPECT_NEAR(slam.odometryCalibration().distance_scale, 1.0, 0.02);
+  EXPECT_LT(mean_m, 0.5 * off_m);
+  EXPECT_DOUBLE_EQ(uncalibrated.odometryCalibration().heading_rate_bias_rad_s, 0.0);
+}
+
+// 30 % non-line-of-sight ranges, 2-40 m long (issue 15's heavy-outlier kind), lawn mower.
+TEST(OnlineEmOutliers, ThirtyPercentNlosRangesInBothAnchors) {
+  sim::SimConfig c;
+  c.seed = 12;
+  c.num_steps = 1500;
+  c.path = sim::PathKind::kLawnMower;
+  c.area_width_m = 40.0;
+  c.area_height_m = 30.0;
+  c.lane_spacing_m = 5.0;
+  c.num_beacons = 6;
+  c.schedule = sim::RangeSchedule::kRoundRobin;
+  c.range_rate_hz = 2.0;
+  c.range_sigma_m = 0.3;
+  c.odo_distance_sigma_rel = 0.02;
+  c.odo_heading_sigma_rad = 0.003;
+  c.outlier_fraction = 0.3;
+  c.outlier_min_m = 2.0;
+  c.outlier_max_m = 40.0;
+  const Dataset data = sim::simulate(c);
+  for (const std::string anchor : {"beacons", "start_pose"}) {
+    OnlineEmConfig config;
+    config.anchor = anchor;
+    OnlineEmSlam slam(config);
+    feed(data, slam);
+    const double mean_m = meanError(slam.filteredPath(), data.ground_truth);
+    const double map_m = mapError(slam.currentMap(), data.beacons);
+    std::printf("NLOS 30 %%, %s: path mean %.3f m, map %.3f m\n", anchor.c_str(), mean_m, map_m);
+    // Measured (seed 12): beacons 0.16 m path, 0.04 m map; start pose 0.94 m path, 1.26 m map.
+    // Bounds: issue 15's targets for the path, 0.5 m (beacons) and 1.5 m (start pose); the map
+    // with ~50 % margin.
+    EXPECT_LT(mean_m, anchor == "beacons" ? 0.5 : 1.5);
+    EXPECT_LT(map_m, anchor == "beacons" ? 0.3 : 2.0);
+  }
+}
+
 TEST(OnlineEmDeterminism, SameInputSameOutput) {
   const Dataset data = sim::simulate(noisyPlazaLike(400, 2));
   OnlineEmSlam a{OnlineEmConfig{}}, b{OnlineEmConfig{}};
@@ -264,6 +338,24 @@ TEST(Multilateration, ExactFromNoiseFreeRangesAndRefusedOnALine) {
   std::vector<double> line_ranges;
   for (const auto& p : line) line_ranges.push_back((beacon - p).norm());
   EXPECT_FALSE(multilaterate(line, line_ranges, 1.0).has_value());
+}
+
+TEST(Multilateration, ConsensusIgnoresLongOutliers) {
+  // Twelve exact ranges, five of them 5-30 m too long: least squares on all is pulled off by
+  // metres; the consensus of triples keeps the seven exact ones and is exact.
+  const Eigen::Vector2d beacon(20.0, 15.0);
+  std::vector<Eigen::Vector2d> positions;
+  std::vector<double> ranges;
+  for (int k = 0; k < 12; ++k) {
+    positions.emplace_back(3.0 * k, k % 2 == 0 ? 0.0 : 6.0);
+    ranges.push_back((beacon - positions.back()).norm() + (k % 5 == 1 || k == 4 || k == 10 ? 5.0 + 2.5 * k : 0.0));
+  }
+  const auto plain = multilaterate(positions, ranges, 1.0);
+  const auto robust = multilaterate(positions, ranges, 1.0, 1.0);
+  ASSERT_TRUE(plain.has_value());
+  ASSERT_TRUE(robust.has_value());
+  EXPECT_GT((*plain - beacon).norm(), 1.0);
+  EXPECT_NEAR((*robust - beacon).norm(), 0.0, 1e-6);
 }
 
 }  // namespace
