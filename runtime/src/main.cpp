@@ -24,6 +24,7 @@
 #include "live.hpp"
 #include "log_sink.hpp"
 #include "plugin_library.hpp"
+#include "rejection_warning.hpp"
 #include "replay.hpp"
 #include "threaded_instance.hpp"
 
@@ -198,6 +199,11 @@ int main(int argc, char** argv) {
   if (log_sink) log_sink->flush();
   if (log_sink && log_sink->failed()) return outputError(*log_sink);
   for (const auto& line : host->summary()) std::fprintf(stderr, "%s\n", line.c_str());
+  for (size_t i = 0; i < host->estimators().size() && i < effective.size(); ++i) {
+    const auto& slot = host->estimators()[i];
+    for (const auto& line : rejectionWarnings(slot.section.name, slot.instance->status(), effective[i]))
+      std::fprintf(stderr, "roam-run: %s\n", line.c_str());
+  }
   std::vector<std::string> failures;
   for (const auto& slot : host->estimators()) {
     if (slot.instance->failed()) {
