@@ -1,24 +1,16 @@
-// Feeds a roam::Dataset to an estimator the way roam-run does: INITIAL_POSE, BEACONS, then
-// ODOMETRY and RANGE merged in time order (odometry first when times are equal).
+// The EKF tests feed runs through the shared feeder (tests/common/feed.hpp), in roam-run's order.
 #pragma once
 
-#include "dataset.hpp"
-#include "roam/estimator.hpp"
+#include "../common/feed.hpp"
 
 namespace roam {
 namespace test {
 
-inline void feed(const Dataset& data, Estimator& estimator, bool with_start = true,
-                 bool with_beacons = true) {
-  if (with_start) estimator.setInitialPose(data.start);
-  if (with_beacons) estimator.setBeacons(data.beacons);
-  size_t r = 0;
-  for (const Odometry& odometry : data.odometry) {
-    while (r < data.ranges.size() && data.ranges[r].utime < odometry.utime) estimator.addRange(data.ranges[r++]);
-    estimator.addOdometry(odometry);
-  }
-  while (r < data.ranges.size()) estimator.addRange(data.ranges[r++]);
-  estimator.finish();
+inline void feed(const Dataset& data, Estimator& estimator, bool with_start, bool with_beacons = true) {
+  FeedOptions options;
+  options.with_start = with_start;
+  options.with_beacons = with_beacons;
+  feed(data, estimator, options);
 }
 
 }  // namespace test

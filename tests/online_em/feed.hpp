@@ -1,27 +1,16 @@
-// Feeds a roam::Dataset to an estimator the way roam-run does: INITIAL_POSE, BEACONS, then
-// ODOMETRY and RANGE merged in time order (a range stamped at an odometry time goes first).
+// The online EM tests' helpers: the shared feeder (tests/common/feed.hpp, roam-run's order) and
+// path and map scores.
 #pragma once
 
 #include <cmath>
 #include <vector>
 
-#include "dataset.hpp"
-#include "roam/estimator.hpp"
+#include "../common/feed.hpp"
 
 namespace roam {
 namespace online_em_test {
 
-inline void feed(const Dataset& data, Estimator& estimator) {
-  estimator.setInitialPose(data.start);
-  estimator.setBeacons(data.beacons);
-  size_t r = 0;
-  for (const Odometry& odometry : data.odometry) {
-    while (r < data.ranges.size() && data.ranges[r].utime <= odometry.utime) estimator.addRange(data.ranges[r++]);
-    estimator.addOdometry(odometry);
-  }
-  while (r < data.ranges.size()) estimator.addRange(data.ranges[r++]);
-  estimator.finish();
-}
+using roam::test::feed;
 
 // Mean position error of `path` against `truth`, matched by utime (poses without a match skipped).
 inline double meanError(const Path& path, const Path& truth, double* rmse = nullptr, double* last10 = nullptr) {

@@ -80,7 +80,12 @@ TEST(OnlineEmNoiseFree, ExactMapStaysFixedAndPathIsExact) {
   }
   EXPECT_NEAR(slam.rangeScale(), 1.0, 1e-6);
   EXPECT_NEAR(slam.rangeOffset(), 0.0, 1e-4);
-  EXPECT_EQ(slam.rangesAccepted(), static_cast<int64_t>(data.ranges.size()));
+  // In roam-run's order a range stamped at the last odometry time comes after that step and
+  // waits for a step that never comes (counted as ranges_after_last_odometry); every other is used.
+  int64_t after_last = 0;
+  for (const Range& r : data.ranges) after_last += r.utime >= data.odometry.back().utime ? 1 : 0;
+  EXPECT_EQ(slam.rangesAccepted(), static_cast<int64_t>(data.ranges.size()) - after_last);
+  EXPECT_EQ(after_last, 1);
 }
 
 TEST(OnlineEmNoiseFree, StartPoseMultilaterationRecoversTheMap) {

@@ -4,24 +4,20 @@
 #include <algorithm>
 #include <cmath>
 
+#include "../common/feed.hpp"
 #include "roam/estimator.hpp"
 #include "sim.hpp"
 
 namespace roam {
 namespace testing {
 
-// INITIAL_POSE, BEACONS, then odometry and ranges in time order (a range at a pose's time
-// after the odometry that ends there), as roam-run does.
+// The shared feeder (tests/common/feed.hpp, roam-run's order) without the end of input: the
+// spectral tests call finish() themselves.
 inline void feed(Estimator& estimator, const sim::SimRun& run, bool give_beacons = true) {
-  estimator.setInitialPose(run.start);
-  if (give_beacons) estimator.setBeacons(run.beacons);
-  size_t r = 0;
-  while (r < run.ranges.size() && run.ranges[r].utime <= run.start.utime) estimator.addRange(run.ranges[r++]);
-  for (const Odometry& odometry : run.odometry) {
-    estimator.addOdometry(odometry);
-    while (r < run.ranges.size() && run.ranges[r].utime <= odometry.utime) estimator.addRange(run.ranges[r++]);
-  }
-  while (r < run.ranges.size()) estimator.addRange(run.ranges[r++]);
+  test::FeedOptions options;
+  options.with_beacons = give_beacons;
+  options.finish = false;
+  test::feed(run, estimator, options);
 }
 
 struct PathErrors {

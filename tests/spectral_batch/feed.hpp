@@ -1,27 +1,13 @@
-// Feeds a roam::Dataset to an estimator the way roam-run does (INITIAL_POSE, BEACONS, then
-// ODOMETRY and RANGE merged in time order, odometry first on equal times), and scores a path.
+// The spectral_batch tests' helpers: the shared feeder (tests/common/feed.hpp) and a path score.
 #pragma once
 
 #include <cmath>
 #include <stdexcept>
 
-#include "dataset.hpp"
-#include "roam/estimator.hpp"
+#include "../common/feed.hpp"
 
 namespace roam {
 namespace test {
-
-inline void feed(const Dataset& data, Estimator& estimator) {
-  estimator.setInitialPose(data.start);
-  estimator.setBeacons(data.beacons);
-  size_t r = 0;
-  for (const Odometry& odometry : data.odometry) {
-    while (r < data.ranges.size() && data.ranges[r].utime < odometry.utime) estimator.addRange(data.ranges[r++]);
-    estimator.addOdometry(odometry);
-  }
-  while (r < data.ranges.size()) estimator.addRange(data.ranges[r++]);
-  estimator.finish();
-}
 
 // Mean position error (m) of a path with one pose per ground-truth pose.
 inline double meanError_m(const Path& path, const Path& truth) {
