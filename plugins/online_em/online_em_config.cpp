@@ -25,6 +25,10 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
       .min(0.0, false);
   options.add("heading_rate_bias_prior_sigma_rad_s", &c->heading_rate_bias_prior_sigma_rad_s,
               "prior sigma of the heading-rate bias around 0").min(0.0, false);
+  options.add("calibrated_rerun", &c->calibrated_rerun,
+              "start_pose: re-run once from the start with the learned calibration");
+  options.add("rerun_bias_sigma_fraction", &c->rerun_bias_sigma_fraction,
+              "re-run once the bias sigma is below this fraction of its prior").min(0.0, false).max(1.0);
   options.add("wheelbase_m", &c->wheelbase_m, "bicycle model wheelbase").min(0.0, false);
   options.add("speed_sigma_mps", &c->speed_sigma_mps, "bicycle model speed noise").min(0.0, false);
   options.add("steer_sigma_rad", &c->steer_sigma_rad, "bicycle model steering noise").min(0.0, false);

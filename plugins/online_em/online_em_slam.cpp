@@ -45,6 +45,8 @@ OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
   previous_weights_ = weights_;
   statistics_.resize(n, 0);
   calibration_statistics_ = Eigen::MatrixXd::Zero(n, 2);
+  recording_ = config_.calibrated_rerun && config_.calibrate_odometry && config_.anchor == "start_pose" &&
+               config_.motion_model == "odometry";
   setDiagnostic("num_particles", n);
 }
 
@@ -129,10 +131,17 @@ void OnlineEmSlam::addRange(const Range& range) {
     rejectRange("range not positive");
     return;
   }
+  if (recording_ && !replaying_) inputs_.push_back({false, Odometry{}, range});
   queued_ranges_.push_back(range);
 }
 
 void OnlineEmSlam::addOdometry(const Odometry& odometry) {
+  if (recording_ && !replaying_) inputs_.push_back({true, odometry, Range{}});
+  processOdometry(odometry);
+  if (rerun_pending_ && !replaying_) rerun();
+}
+
+void OnlineEmSlam::processOdometry(const Odometry& odometry) {
   if (!started_) {
     // No INITIAL_POSE: start at the origin, at this step's time.
     Pose origin;
@@ -143,7 +152,7 @@ void OnlineEmSlam::addOdometry(const Odometry& odometry) {
     rejectOdometry("time went backwards");
     return;
   }
-  acceptOdometry();
+  if (!replaying_) acceptOdometry();
   const int n = config_.num_particles;
   const int64_t step_start_utime = last_utime_;
   const double dt_s = 1e-6 * static_cast<double>(odometry.utime - step_start_utime);
@@ -169,7 +178,7 @@ void OnlineEmSlam::addOdometry(const Odometry& odometry) {
   std::vector<StepObservation> observations;
   std::bernoulli_distribution wide(1.0 - config_.mixture_weight0);
   for (const Range& r : ranges) {
-    acceptRange();
+    if (!replaying_) acceptRange();
     const int i = landmarkIndex(r.beacon_id);
     StepObservation obs;
     obs.landmark = i;
@@ -239,7 +248,7 @@ void OnlineEmSlam::addOdometry(const Odometry& odometry) {
 }
 
 void OnlineEmSlam::smoothStatistics(std::vector<StepObservation>& observations) {
-  const bool calibrate = config_.calibrate_odometry && config_.motion_model == "odometry";
+  const bool calibrate = config_.calibrate_odometry && config_.motion_model == "odometry" && !replaying_;
   if (statistics_.cols() == 0 && !calibrate) return;
   const int n = config_.num_particles;
   // K_kl ∝ w_{t-1}^l m(xi_t^k | xi_{t-1}^l), rows normalised.
@@ -429,7 +438,7 @@ void OnlineEmSlam::mStep() {
 }
 
 void OnlineEmSlam::calibrationMStep() {
-  if (!config_.calibrate_odometry || config_.motion_model != "odometry" || motion_steps_ == 0) return;
+  if (!config_.calibrate_odometry || config_.motion_model != "odometry" || motion_steps_ == 0 || replaying_) return;
   const double n = static_cast<double>(motion_steps_);
   const double ps = 1.0 / (config_.distance_scale_prior_sigma * config_.distance_scale_prior_sigma);
   const double pb = 1.0 / (config_.heading_rate_bias_prior_sigma_rad_s * config_.heading_rate_bias_prior_sigma_rad_s);
@@ -444,13 +453,15 @@ void OnlineEmSlam::calibrationMStep() {
   if (!x.allFinite()) return;
   calibration_.distance_scale = x[0];
   calibration_.heading_rate_bias_rad_s = x[1];
+  heading_rate_bias_sigma_rad_s_ = std::sqrt(ldlt.solve(Eigen::Matrix2d::Identity())(1, 1));
+  setDiagnostic("heading_rate_bias_sigma_rad_s", heading_rate_bias_sigma_rad_s_);
   setDiagnostic("odometry_distance_scale", x[0]);
   setDiagnostic("heading_rate_bias_rad_s", x[1]);
 }
 
 void OnlineEmSlam::correctFrame() {
   if (config_.anchor != "start_pose" || !config_.calibrate_odometry || config_.motion_model != "odometry" ||
-      window_open_ || window_odometry_.empty())
+      window_open_ || window_odometry_.empty() || replaying_)
     return;
   // The window dead-reckoned from the start without and with the calibration.
   const int m = static_cast<int>(window_odometry_.size());
@@ -458,7 +469,7 @@ void OnlineEmSlam::correctFrame() {
   Eigen::Vector2d mean_a = a.head<2>(), mean_b = b.head<2>();
   std::vector<Eigen::Vector2d> pa{a.head<2>()}, pb{b.head<2>()};
   for (int j = 0; j < m; ++j) {
-    a = estimation::step(a, estimation::calibratedIncrement(window_odometry_[j], window_dt_s_[j]));
+    a = estimation::step(a, estimation::calibratedIncrement(window_odometry_[j], window_dt_s_[j], window_calibration_));
     b = estimation::step(b, estimation::calibratedIncrement(window_odometry_[j], window_dt_s_[j], calibration_));
     pa.push_back(a.head<2>());
     pb.push_back(b.head<2>());
@@ -480,6 +491,10 @@ void OnlineEmSlam::correctFrame() {
   if (std::abs(angle_rad) < 2.0 * config_.odo_heading_sigma_rad * std::sqrt(static_cast<double>(m))) {
     angle_rad = 0.0;
     translation_m.setZero();
+  } else if (recording_ && heading_rate_bias_sigma_rad_s_ <
+                               config_.rerun_bias_sigma_fraction * config_.heading_rate_bias_prior_sigma_rad_s) {
+    rerun_pending_ = true;  // replaces the correction, after this step
+    return;
   }
   // The part not applied yet: T_d T_a^-1.
   const double delta_rad = angle_rad - frame_angle_rad_;
@@ -531,6 +546,48 @@ void OnlineEmSlam::applyFrameMotion(double angle_rad, const Eigen::Vector2d& tra
   emitMap(currentMap());
 }
 
+void OnlineEmSlam::rerun() {
+  rerun_pending_ = false;
+  recording_ = false;
+  std::vector<Input> inputs;
+  inputs.swap(inputs_);
+  // The calibration statistics keep their value; the replayed steps are not counted again.
+  const Eigen::RowVector2d calibration_mean = weights_.matrix().transpose() * calibration_statistics_;
+  const Eigen::Matrix2d calibration_information = calibration_information_;
+  const int64_t motion_steps = motion_steps_;
+  const estimation::OdometryCalibration learned = calibration_;
+  // Back to the start: no landmarks, no path, the window reopened with the learned calibration.
+  replaying_ = true;
+  landmarks_.clear();
+  index_of_id_.clear();
+  statistics_.resize(config_.num_particles, 0);
+  queued_ranges_.clear();
+  path_.clear();
+  window_odometry_.clear();
+  window_dt_s_.clear();
+  window_open_ = true;
+  frame_angle_rad_ = 0.0;
+  frame_translation_m_.setZero();
+  observing_steps_ = 0;
+  window_calibration_ = learned;
+  calibration_ = learned;
+  start(start_pose_);
+  for (const Input& input : inputs) {
+    if (input.is_odometry)
+      processOdometry(input.odometry);
+    else
+      queued_ranges_.push_back(input.range);
+  }
+  replaying_ = false;
+  calibration_statistics_.rowwise() = calibration_mean;
+  calibration_information_ = calibration_information;
+  motion_steps_ = motion_steps;
+  setDiagnostic("frame_correction_rad", 0.0);
+  setDiagnostic("calibrated_rerun_inputs", static_cast<double>(inputs.size()));
+  setDiagnostic("calibrated_rerun_bias_rad_s", learned.heading_rate_bias_rad_s);
+  emitMap(currentMap());
+}
+
 Map OnlineEmSlam::currentMap() const {
   Map map;
   for (const Landmark& landmark : landmarks_) {
@@ -565,7 +622,7 @@ void OnlineEmSlam::publish(int64_t utime) {
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) pose.covariance[3 * r + c] = covariance(r, c);
   path_.push_back(pose);
-  emitPose(pose);
+  if (!replaying_) emitPose(pose);
 }
 
 void OnlineEmSlam::finish() {

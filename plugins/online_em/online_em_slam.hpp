@@ -47,6 +47,17 @@
 // noise of the window (sigma_h sqrt(steps)) is not significant and is not applied (Plaza 1's
 // learned b ~ 3e-4 rad/s would otherwise turn a correct frame by 0.025 rad).
 //
+// Calibrated re-run (calibrated_rerun, anchor = start_pose): the correction above fits the
+// window's rotation only approximately, and the first landmarks stay placed from an
+// uncalibrated path. So, once, when the correction is significant and the bias is known to a
+// fraction of its prior (sigma_b = sqrt([(t A + P)^-1]_bb) < rerun_bias_sigma_fraction *
+// prior sigma), the filter restarts from the start pose on every input received so far with
+// (s, b) fixed at the learned value (no calibration statistics, M-step or frame correction
+// during the replay), then goes on online. The calibration statistics keep their value (their
+// particle-weighted mean, the steps are not counted twice); the frame correction afterwards
+// compares the window dead-reckoned with the re-run's calibration to the current one. Poses
+// already published stay published; the map, particles and path are the re-run's.
+//
 // Robust initialisation (multilateration.hpp): a consensus of range triples with an inlier gate
 // of 3 sr (at least 1 m).
 //
@@ -132,6 +143,8 @@ class OnlineEmSlam : public Estimator {
   void calibrationMStep();
   void correctFrame();
   void applyFrameMotion(double angle_rad, const Eigen::Vector2d& translation_m);
+  void rerun();
+  void processOdometry(const Odometry& odometry);
   void publish(int64_t utime);
 
   OnlineEmConfig config_;
@@ -164,6 +177,16 @@ class OnlineEmSlam : public Estimator {
   double frame_angle_rad_ = 0.0;
   Eigen::Vector2d frame_translation_m_ = Eigen::Vector2d::Zero();
   std::vector<Range> queued_ranges_;
+  // Calibrated re-run: the inputs in arrival order until it runs, and its state.
+  struct Input {
+    bool is_odometry = true;
+    Odometry odometry;
+    Range range;
+  };
+  std::vector<Input> inputs_;
+  bool recording_ = false, rerun_pending_ = false, replaying_ = false;
+  double heading_rate_bias_sigma_rad_s_ = kNaN;
+  estimation::OdometryCalibration window_calibration_;  // the early window was dead-reckoned with it
   int64_t observing_steps_ = 0;
   Path path_;  // filtered means, one per step (the start pose first)
   double sum_effective_predecessors_ = 0.0;
