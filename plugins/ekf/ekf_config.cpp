@@ -21,6 +21,7 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("gyro_bias_sigma_rad_s", &c->gyro_bias_sigma_rad_s, "prior sigma of the heading-rate bias (rad/s)").min(0.0, false);
   o.add("gyro_bias_walk_rad_s_per_sqrt_s", &c->gyro_bias_walk_rad_s_per_sqrt_s, "random walk of the heading-rate bias").min(0.0);
   o.add("stationary_speed_mps", &c->stationary_speed_mps, "below this speed a reported turn is the heading-rate bias (0: never)").min(0.0);
+  o.add("stationary_min_steps", &c->stationary_min_steps, "slow steps in a row turning at one rate before the zero-rate update").min(1);
   o.add("calib_rerun_fraction", &c->calib_rerun_fraction, "start_pose: re-filter from the start once the bias sigma is this fraction of its prior (0: never)").min(0.0).max(1.0);
   o.add("recover_after_gated", &c->recover_after_gated, "ranges gated in a row before the position variance is widened (0: never)").min(0);
   o.add("motion_noise_max_scale", &c->motion_noise_max_scale, "largest factor on the odometry covariance after starvation").min(1.0);
@@ -60,6 +61,7 @@ void validate(const EkfConfig& c) {
   if (!(c.gyro_bias_walk_rad_s_per_sqrt_s >= 0.0)) fail("gyro_bias_walk_rad_s_per_sqrt_s >= 0");
   if (!(c.calib_rerun_fraction >= 0.0 && c.calib_rerun_fraction <= 1.0)) fail("calib_rerun_fraction in [0, 1]");
   if (!(c.stationary_speed_mps >= 0.0)) fail("stationary_speed_mps >= 0");
+  if (c.stationary_min_steps < 1) fail("stationary_min_steps >= 1");
   if (!(c.motion_noise_max_scale >= 1.0)) fail("motion_noise_max_scale >= 1");
   if (!(c.motion_noise_decay > 0.0 && c.motion_noise_decay <= 1.0)) fail("motion_noise_decay in (0, 1]");
   if (c.recover_after_gated < 0) fail("recover_after_gated >= 0");

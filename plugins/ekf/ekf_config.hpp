@@ -32,6 +32,8 @@ struct EkfConfig {
   double gyro_bias_walk_rad_s_per_sqrt_s = 1e-5;
   // Zero-rate update below this speed (the robot stands still: its reported turn is the bias).
   double stationary_speed_mps = 0.02;
+  // ... in this many steps in a row, each turning at the rate of the one before (within the gate).
+  int stationary_min_steps = 5;
   // anchor = start_pose: re-filter the run once from the start when the bias sigma falls to
   // this fraction of its prior (0: never).
   double calib_rerun_fraction = 0.1;

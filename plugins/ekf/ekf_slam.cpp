@@ -93,6 +93,7 @@ void EkfSlam::addOdometry(const Odometry& odometry) {
   step.before = filter_;
   step.before_utime = state_utime_;
   step.path_size = path_.size();
+  step.standstill = confirmStandstill(odometry, std::max<int64_t>(0, odometry.utime - state_utime_) * 1e-6);
   runStep(step, true);
   acceptOdometry();
   history_.push_back(std::move(step));
@@ -140,7 +141,7 @@ void EkfSlam::runStep(const Step& step, bool live) {
   }
   // The rest: translation (1 - a) (u, v), the whole turn and the bias over the whole step.
   Odometry rest = odo;
-  if (stationaryBiasUpdate(odo, dt_s, Q(2, 2))) {
+  if (step.standstill && stationaryBiasUpdate(odo, dt_s, Q(2, 2))) {
     // Stationary and the turn explained by the bias: the robot did not turn (b is updated).
     rest.delta_heading_rad = 0.0;
     filter_.predict(Odometry{}, 0.0, Eigen::Vector3d(0.0, 0.0, Q(2, 2)).asDiagonal(), bias_walk_var);
@@ -178,6 +179,31 @@ estimation::MotionNoise EkfSlam::motionNoise(const Odometry& odo) const {
                                   std::pow(config_.odo_heading_sigma_rad, 2));
   noise.use_reported_covariance = true;
   return noise;
+}
+
+bool EkfSlam::confirmStandstill(const Odometry& odo, double dt_s) {
+  // A vehicle at rest turns at the bias rate, the same rate step after step; a slow vehicle
+  // (an AUV drifting at 2 cm/s, a boat turning on the spot) turns at rates that change from step
+  // to step by far more than the gyro's noise. So a step below stationary_speed_mps is taken as
+  // standing still only when it ends stationary_min_steps slow steps in a row, each turning at a
+  // rate that agrees with the one before within the gate (chi-square, 1 dof) of their noise (one
+  // pair agreeing by chance is not enough). Odometry only: the same on every re-run.
+  const bool slow = config_.stationary_speed_mps > 0.0 && dt_s > 0.0 &&
+                    std::hypot(odo.forward_m, odo.lateral_m) <= config_.stationary_speed_mps * dt_s;
+  if (!slow) {
+    previous_stationary_ = false;
+    agreeing_steps_ = 0;
+    return false;
+  }
+  const double var_turn = estimation::incrementCovariance(odo, dt_s, motionNoise(odo))(2, 2);
+  const double rate = odo.delta_heading_rad / dt_s, rate_var = var_turn / (dt_s * dt_s);
+  const bool agree = previous_stationary_ && std::pow(rate - previous_rate_rad_s_, 2) <=
+                                                 gate_range_chi2_ * (rate_var + previous_rate_var_);
+  agreeing_steps_ = agree ? agreeing_steps_ + 1 : 0;
+  previous_stationary_ = true;
+  previous_rate_rad_s_ = rate;
+  previous_rate_var_ = rate_var;
+  return agreeing_steps_ + 1 >= config_.stationary_min_steps;
 }
 
 bool EkfSlam::stationaryBiasUpdate(const Odometry& odo, double dt_s, double var_turn_rad2) {

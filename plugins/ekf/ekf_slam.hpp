@@ -88,6 +88,7 @@ class EkfSlam : public Estimator {
     EkfFilter before;
     int64_t before_utime = 0;
     size_t path_size = 0;
+    bool standstill = false;  // a confirmed standstill (confirmStandstill): zero-rate update
   };
 
   void start(const Pose& pose);
@@ -98,6 +99,7 @@ class EkfSlam : public Estimator {
   void rollbackAndInsert(int id, const MultilaterationResult& solve);
   void replayFrom(int64_t offset, int64_t first_step);
   void rerunWithCalibration();
+  bool confirmStandstill(const Odometry& odometry, double dt_s);
   bool stationaryBiasUpdate(const Odometry& odometry, double dt_s, double var_turn_rad2);
   void prune();
   Pose currentPose(int64_t utime) const;
@@ -134,6 +136,10 @@ class EkfSlam : public Estimator {
   bool calib_rerun_pending_ = false;  // history kept from the start for one calibrated re-run
   int64_t calibration_reruns_ = 0;
   int64_t stationary_updates_ = 0;
+  bool previous_stationary_ = false;       // the previous step was below stationary_speed_mps
+  int agreeing_steps_ = 0;                 // slow steps in a row whose rate agreed with the one before
+  double previous_rate_rad_s_ = 0.0;       // and its turn rate, with the rate's variance
+  double previous_rate_var_ = 0.0;
 };
 
 }  // namespace roam

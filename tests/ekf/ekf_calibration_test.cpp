@@ -55,8 +55,9 @@ TEST(EkfCalibration, StandstillLearnsTheBiasAndDoesNotTurn) {
   // 100 steps of 0.2 s standing still with a gyro reporting 0.01 rad/s: the heading stays at
   // the start exactly (zero-rate update), and b -> 0.01 shrunk by its prior: each step observes
   // w = b dt with sigma_w = odo_heading_sigma_rad = 0.001, i.e. b with sigma 0.001 / 0.2 = 0.005
-  // (information 4e4 each, 4e6 for 100), the prior 0 +- 0.01 (information 1e4):
-  // b = 0.01 * 4e6 / (4e6 + 1e4) = 0.0099751 (the bias walk, 2e-11 per step, is negligible).
+  // (information 4e4 each, 3.84e6 for the 96 from the 5th: the first 4 only confirm the
+  // standstill, stationary_min_steps = 5), the prior 0 +- 0.01 (information 1e4):
+  // b = 0.01 * 3.84e6 / (3.84e6 + 1e4) (the bias walk, 2e-11 per step, is negligible).
   EkfConfig config;
   EkfSlam ekf(config);
   Pose start;
@@ -70,9 +71,37 @@ TEST(EkfCalibration, StandstillLearnsTheBiasAndDoesNotTurn) {
     ekf.addOdometry(odometry);
   }
   ekf.finish();
-  EXPECT_NEAR(ekf.path().back().heading_rad, 0.3, kExact);
-  EXPECT_NEAR(ekf.filter().headingRateBias(), 0.01 * 4e6 / (4e6 + 1e4), 1e-8);
-  EXPECT_EQ(ekf.diagnostics().at("stationary_bias_updates"), 100.0);
+  // The first 4 steps turned by w - b dt with b then unknown; the heading follows b through its
+  // correlation, so it ends at 0.3 + 4 dt (0.01 - b).
+  const double b = 0.01 * 3.84e6 / (3.84e6 + 1e4);
+  EXPECT_NEAR(ekf.filter().headingRateBias(), b, 1e-8);
+  EXPECT_NEAR(ekf.path().back().heading_rad, 0.3 + 4 * 0.2 * (0.01 - b), 1e-6);  // + their turn noise
+  EXPECT_EQ(ekf.diagnostics().at("stationary_bias_updates"), 96.0);
+}
+
+TEST(EkfCalibration, ASlowVehicleTurningIsNotStandingStill) {
+  // An AUV drifting at 1.6 cm/s (below stationary_speed_mps) while turning at rates that change
+  // by 0.005-0.01 rad/s from one 5 s step to the next (gyro noise 0.002 rad per step, i.e.
+  // 4e-4 rad/s): never a standstill, so no zero-rate update, the bias stays at its prior and the
+  // heading follows the reported turns.
+  EkfConfig config;
+  EkfSlam ekf(config);
+  Pose start;
+  ekf.setInitialPose(start);
+  const double rates[] = {-0.011, 0.002, -0.003, -0.006, -0.0015, -0.0057, -0.0003, -0.0012};
+  double heading = 0.0;
+  for (int k = 0; k < 40; ++k) {
+    Odometry odometry;
+    odometry.utime = (k + 1) * 5000000;
+    odometry.forward_m = 0.08;
+    odometry.delta_heading_rad = rates[k % 8] * 5.0;
+    heading += odometry.delta_heading_rad;
+    ekf.addOdometry(odometry);
+  }
+  ekf.finish();
+  EXPECT_EQ(ekf.diagnostics().at("stationary_bias_updates"), 0.0);
+  EXPECT_EQ(ekf.filter().headingRateBias(), 0.0);
+  EXPECT_NEAR(ekf.path().back().heading_rad, heading, kExact);
 }
 
 double meanError(const Path& path, const Path& truth) {
