@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 
 #include "odometry_calibration.hpp"
@@ -447,14 +448,27 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
   if (N < 4) throw InsufficientData("spectral: needs ranges to >= 4 beacons, got " + std::to_string(N));
   SpectralConfig config = given_config;
   config.window_s = effectiveWindowSeconds(problem, given_config);
-  // A failed self-check: twice the window, up to window_retries times.
+  // A failed self-check, or a solution that explains the ranges clearly worse than its windows
+  // (consistent_residual_ratio): twice the window, up to window_retries times. Of the solutions
+  // that pass, the one with the lowest median residual is kept.
+  std::optional<SpectralSolution> best;
   for (int attempt = 0;; ++attempt) {
+    const bool last = attempt >= config.window_retries;
     try {
-      return solveAtWindow(problem, config);
+      SpectralSolution solution = solveAtWindow(problem, config);
+      const double reference_m =
+          std::max(solution.local_median_residual_m, 0.674 * config.range_sigma_m);
+      const bool consistent = config.consistent_residual_ratio <= 0.0 ||
+                              solution.median_residual_m <= config.consistent_residual_ratio * reference_m;
+      if (!best || solution.median_residual_m < best->median_residual_m) best = std::move(solution);
+      if (consistent || last) return *best;
     } catch (const WindowsDoNotFit& too_few) {
-      if (attempt >= config.window_retries) throw InsufficientData(too_few.what());
-      config.window_s *= 2.0;
+      if (last) {
+        if (best) return *best;
+        throw InsufficientData(too_few.what());
+      }
     }
+    config.window_s *= 2.0;
   }
 }
 
