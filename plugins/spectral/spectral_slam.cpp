@@ -17,8 +17,6 @@ void SpectralSlam::startPath(const Pose& start) {
   setState(EstimatorState::kTracking);
   if (config_.mode == SpectralMode::kOnline) {
     online_ = std::make_unique<OnlineSpectral>(config_);
-    for (const Pose& pose : online_->advance(problem_)) emitPose(pose);
-    emitPose(online_->published().front());
   }
 }
 

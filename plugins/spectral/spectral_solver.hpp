@@ -81,6 +81,11 @@ UpgradedStates upgradeStates(const Eigen::MatrixXd& Yhat, const std::vector<int>
 Path assembleTrajectory(const OdometryPath& path, const std::vector<int>& poses,
                         const UpgradedStates& states, double heading_window_s);
 
+// The self-check's median |range - s_n |p(t) - m| - o_n| over the ranges within the trajectory
+// (a prefix of problem.path in online mode); m surveyed (anchor = beacons) or learned.
+double solutionMedianResidual(const SpectralProblem& problem, const SpectralConfig& config,
+                              const Path& trajectory, const Eigen::Matrix2Xd& learned_beacons);
+
 // Steps 1-4. Throws InsufficientData with the reason if the data cannot be solved.
 SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config);
 

@@ -194,9 +194,13 @@ TEST(SpectralRefusal, AuvLikeSparseRunPublishesNothingAndSaysWhy) {
   c.odo_heading_sigma_rad = 0.005;
   c.odo_distance_scale = 0.97;
   const sim::SimRun run = sim::simulate(c);
+  // Online mode too: its self-check on the data so far holds every pose, so nothing goes out
+  // before finish() refuses (it published the start pose and dead reckoning before).
+  for (const bool online : {false, true}) {
   for (SpectralAnchor anchor : {SpectralAnchor::kBeacons, SpectralAnchor::kStartPose}) {
     SpectralConfig config;
     config.anchor = anchor;
+    if (online) config.mode = SpectralMode::kOnline;
     SpectralSlam slam(config);
     feed(slam, run, anchor == SpectralAnchor::kBeacons);
     ASSERT_NO_THROW(slam.finish());
@@ -205,7 +209,8 @@ TEST(SpectralRefusal, AuvLikeSparseRunPublishesNothingAndSaysWhy) {
     EXPECT_EQ(slam.lastRejection().rfind("data: spectral: ", 0), 0u) << slam.lastRejection();
     Path path;
     EXPECT_FALSE(slam.trajectory(true, &path));
-    EXPECT_TRUE(slam.takePoses().empty());
+    EXPECT_TRUE(slam.takePoses().empty()) << (online ? "online" : "batch");
+  }
   }
 }
 
