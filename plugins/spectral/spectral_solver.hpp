@@ -47,6 +47,8 @@ struct SpectralSolution {
   // the windows' interpolation at the nearest pose (local: the data's own noise and outliers).
   double median_residual_m = 0.0;
   double local_median_residual_m = 0.0;
+  // Fraction of the ranges beyond 3 robust sigmas (1.4826 x the median) of the windows' fits.
+  double window_outlier_fraction = 0.0;
 };
 
 InterpolationConfig interpolationConfig(const SpectralConfig& config);
