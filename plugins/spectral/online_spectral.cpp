@@ -1,6 +1,8 @@
 #include "online_spectral.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 
 #include "thin_svd.hpp"
 
@@ -36,14 +38,6 @@ bool OnlineSpectral::acceptsBeacon(int id, const SpectralProblem& problem) const
 
 std::vector<Pose> OnlineSpectral::advance(const SpectralProblem& problem) {
   const OdometryPath& path = problem.path;
-  if (published_.empty()) {
-    Pose start;
-    start.utime = path.utime[0];
-    start.x_m = path.x_m[0];
-    start.y_m = path.y_m[0];
-    start.heading_rad = wrapAngle(path.heading_rad[0]);
-    published_.push_back(start);
-  }
   if (!interpolator_) {
     // The beacon rows are fixed when the first window closes with >= 4 beacons seen.
     const int64_t first_end =
@@ -78,36 +72,61 @@ std::vector<Pose> OnlineSpectral::publishUpTo(const SpectralProblem& problem, in
     columns_.rightCols(block.Y.cols()) = block.Y;
     column_poses_.insert(column_poses_.end(), block.poses.begin(), block.poses.end());
   }
-  const OdometryPath path = prefix(problem.path, end_pose);
-  Path solved;
-  if (svd_.rank() == config_.rank && column_poses_.size() >= 10) {
-    try {
-      const Eigen::MatrixXd Yhat = lowRankProjection(svd_.U(), columns_);
-      const UpgradedStates states = upgradeStates(Yhat, column_poses_, problem, config_);
-      solved = assembleTrajectory(path, column_poses_, states, config_.window_s);
-    } catch (const std::exception&) {
-      solved.clear();  // not yet determined (too little data): dead reckoning below
-    }
-  }
-  std::vector<Pose> out;
-  for (int k = final_end_; k < end_pose; ++k) {
-    Pose pose;
-    if (!solved.empty()) {
-      pose = solved[k];
-    } else {
-      // Dead reckoning from the last published pose, turned by its heading offset.
-      const Pose& last = published_.back();
-      const double offset = last.heading_rad - path.heading_rad[k - 1];
-      const double dx = path.x_m[k] - path.x_m[k - 1], dy = path.y_m[k] - path.y_m[k - 1];
-      pose.utime = path.utime[k];
-      pose.x_m = last.x_m + std::cos(offset) * dx - std::sin(offset) * dy;
-      pose.y_m = last.y_m + std::sin(offset) * dx + std::cos(offset) * dy;
-      pose.heading_rad = wrapAngle(path.heading_rad[k] + offset);
-    }
-    published_.push_back(pose);
-    out.push_back(pose);
-  }
   final_end_ = end_pose;
+  const OdometryPath path = prefix(problem.path, end_pose);
+  if (svd_.rank() != config_.rank || column_poses_.size() < 10) {
+    hold_reason_ = "spectral online: fewer than 10 poses with every beacon interpolated";
+    return {};
+  }
+  Path solved;
+  UpgradedStates states;
+  try {
+    const Eigen::MatrixXd Yhat = lowRankProjection(svd_.U(), columns_);
+    states = upgradeStates(Yhat, column_poses_, problem, config_);
+    solved = assembleTrajectory(path, column_poses_, states, config_.window_s);
+  } catch (const std::exception& not_yet) {
+    hold_reason_ = std::string("spectral online: ") + not_yet.what();
+    return {};
+  }
+  // The batch self-check on the data so far: the windows' median |r - interpolated r| at the
+  // nearest pose, and the solution's median residual (per-beacon scale and offset removed).
+  std::vector<double> local;
+  double value;
+  for (const RangeSample& r : problem.ranges) {
+    const int k = problem.path.lowerBound(r.utime);
+    if (k >= end_pose) break;
+    if (interpolator_->halfSquaredRange(r.beacon, k, &value))
+      local.push_back(std::abs(r.range_m - std::sqrt(std::max(0.0, 2.0 * value))));
+  }
+  double local_median_m = 0.0;
+  if (!local.empty()) {
+    std::nth_element(local.begin(), local.begin() + static_cast<long>(local.size() / 2), local.end());
+    local_median_m = local[local.size() / 2];
+  }
+  char reason[200];
+  if (local_median_m > config_.max_local_residual_sigma * config_.range_sigma_m) {
+    std::snprintf(reason, sizeof reason,
+                  "spectral online: the windows do not fit the ranges so far (median residual %.2f m > "
+                  "max_local_residual_sigma x range_sigma_m)", local_median_m);
+    hold_reason_ = reason;
+    return {};
+  }
+  const double reference_m = std::max(local_median_m, 0.674 * config_.range_sigma_m);
+  const double global_m = solutionMedianResidual(problem, config_, solved, states.beacons_m);
+  if (global_m > config_.max_local_residual_sigma * config_.range_sigma_m ||
+      global_m > config_.max_residual_ratio * reference_m) {
+    std::snprintf(reason, sizeof reason,
+                  "spectral online: the solution so far does not explain the ranges (median residual "
+                  "%.2f m > max_local_residual_sigma x range_sigma_m, or max_residual_ratio x %.2f m)", global_m, reference_m);
+    hold_reason_ = reason;
+    return {};
+  }
+  hold_reason_.clear();
+  std::vector<Pose> out;
+  for (size_t k = published_.size(); k < static_cast<size_t>(end_pose); ++k) {
+    published_.push_back(solved[k]);
+    out.push_back(solved[k]);
+  }
   return out;
 }
 

@@ -4,11 +4,18 @@
 // before the start of the next window are then final (no later window covers them), their
 // columns of Y are added to a rank-k incremental SVD (Brand 2006), the metric upgrade is redone
 // on the current factors, and their poses are returned. Poses with no complete column (ranging
-// gaps, or before the upgrade is possible) are dead-reckoned from the last published pose.
+// gaps) are bridged as in the batch solve.
+//
+// Self-check before publishing (the batch one, on what has been seen): nothing is published
+// until the upgrade is possible and, on the data so far, the windows fit their ranges
+// (max_local_residual_sigma) and the solution explains them (max_residual_ratio). Until then the
+// final poses are held (holdReason() says why) and go out with the first solution that passes.
+// A check that fails later holds again; poses already published stay published.
 #pragma once
 
 #include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "incremental_svd.hpp"
@@ -33,6 +40,8 @@ class OnlineSpectral {
   Path currentTrajectory(const SpectralProblem& problem) const;
   // The path published so far (pose 0 = the start pose).
   const Path& published() const { return published_; }
+  // Why final poses are being held ("" while publishing).
+  const std::string& holdReason() const { return hold_reason_; }
 
  private:
   std::vector<Pose> publishUpTo(const SpectralProblem& problem, int end_pose);
@@ -45,6 +54,7 @@ class OnlineSpectral {
   std::vector<int> column_poses_;  // poses with a complete column, in order
   Eigen::MatrixXd columns_;        // their columns of Y (grown in blocks)
   Path published_;
+  std::string hold_reason_ = "spectral online: no window closed yet";
 };
 
 }  // namespace roam

@@ -42,6 +42,9 @@ std::unique_ptr<roam::Estimator> makeSpectral(roam::Options& options) {
               "windows that do not fit the ranges are doubled and the solve repeated this many times").min(0);
   options.add("max_residual_ratio", &config.max_residual_ratio,
               "no solution if the solution's median range residual exceeds this x the windows'").min(1.0);
+  options.add("consistent_residual_ratio", &config.consistent_residual_ratio,
+              "a solution whose median range residual exceeds this x the windows' is solved again with "
+              "the window doubled (window_retries); the lowest residual is kept (0: off)").min(0.0);
   options.parse();
   config.anchor = roam::parseSpectralAnchor(anchor);
   config.mode = roam::parseSpectralMode(mode);

@@ -17,6 +17,7 @@ void SpectralConfig::validate() const {
   if (!(gyro_bias_segment_s > 0.0)) fail("gyro_bias_segment_s must be > 0");
   if (!(max_local_residual_sigma > 0.0)) fail("max_local_residual_sigma must be > 0");
   if (!(max_residual_ratio >= 1.0)) fail("max_residual_ratio must be >= 1");
+  if (!(consistent_residual_ratio >= 0.0)) fail("consistent_residual_ratio must be >= 0");
   if (window_retries < 0) fail("window_retries must be >= 0");
   if (min_ranges_per_window < 4)
     fail("min_ranges_per_window must be >= 4 (the model has 4 parameters)");

@@ -17,8 +17,6 @@ void SpectralSlam::startPath(const Pose& start) {
   setState(EstimatorState::kTracking);
   if (config_.mode == SpectralMode::kOnline) {
     online_ = std::make_unique<OnlineSpectral>(config_);
-    for (const Pose& pose : online_->advance(problem_)) emitPose(pose);
-    emitPose(online_->published().front());
   }
 }
 
@@ -108,6 +106,7 @@ void SpectralSlam::finish() {
   setDiagnostic("gyro_bias_sigma_rad_s", solution_->heading_rate_bias_sigma_rad_s);
   setDiagnostic("median_residual_m", solution_->median_residual_m);
   setDiagnostic("window_median_residual_m", solution_->local_median_residual_m);
+  setDiagnostic("window_outlier_fraction", solution_->window_outlier_fraction);
   setState(EstimatorState::kFinished);
 }
 

@@ -47,6 +47,8 @@ struct SpectralSolution {
   // the windows' interpolation at the nearest pose (local: the data's own noise and outliers).
   double median_residual_m = 0.0;
   double local_median_residual_m = 0.0;
+  // Fraction of the ranges beyond 3 robust sigmas (1.4826 x the median) of the windows' fits.
+  double window_outlier_fraction = 0.0;
 };
 
 InterpolationConfig interpolationConfig(const SpectralConfig& config);
@@ -80,6 +82,11 @@ UpgradedStates upgradeStates(const Eigen::MatrixXd& Yhat, const std::vector<int>
 // Step 4 and headings: one pose per pose of the path.
 Path assembleTrajectory(const OdometryPath& path, const std::vector<int>& poses,
                         const UpgradedStates& states, double heading_window_s);
+
+// The self-check's median |range - s_n |p(t) - m| - o_n| over the ranges within the trajectory
+// (a prefix of problem.path in online mode); m surveyed (anchor = beacons) or learned.
+double solutionMedianResidual(const SpectralProblem& problem, const SpectralConfig& config,
+                              const Path& trajectory, const Eigen::Matrix2Xd& learned_beacons);
 
 // Steps 1-4. Throws InsufficientData with the reason if the data cannot be solved.
 SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config);

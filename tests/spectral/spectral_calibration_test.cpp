@@ -127,33 +127,45 @@ TEST(SpectralCalibration, NoBiasNoChange) {
   EXPECT_LT(mean_m[0], mean_m[1] + 0.02);
 }
 
-TEST(SpectralOutliers, ThirtyPercentNlosStaysWithinMetres) {
+TEST(SpectralOutliers, ThirtyPercentNlosWithinAMetreAcrossSeeds) {
   // roam-sim's heavy-NLOS run (lawn mower 40 x 30 m, 6 beacons, 2 Hz round robin, 0.3 m noise,
-  // 30 % of the ranges 2-40 m long). Measured (seed 212): anchor = beacons 2.15 m (rank 7; 30 m
-  // before the least-quantile start, the self-check and the window retries), dead reckoning
-  // 1.23 m. Bound 1.5x.
-  sim::SimConfig c;
-  c.seed = 212;
-  c.num_steps = 3000;
-  c.path = sim::PathKind::kLawnMower;
-  c.num_beacons = 6;
-  c.schedule = sim::RangeSchedule::kRoundRobin;
-  c.range_rate_hz = 2.0;
-  c.range_sigma_m = 0.3;
-  c.odo_distance_sigma_rel = 0.02;
-  c.odo_heading_sigma_rad = 0.003;
-  c.outlier_fraction = 0.3;
-  c.outlier_min_m = 2.0;
-  c.outlier_max_m = 40.0;
-  const sim::SimRun run = sim::simulate(c);
-  SpectralConfig config;
-  SpectralSlam slam(config);
-  feed(slam, run);
-  slam.finish();
-  ASSERT_TRUE(slam.solution().has_value()) << slam.lastRejection();
-  const double mean_m = pathErrors(slam.solution()->trajectory, run.ground_truth).mean_m;
-  std::printf("30 %% NLOS: %.3f m, window %.0f s\n", mean_m, slam.solution()->window_s);
-  EXPECT_LT(mean_m, 3.3);
+  // 30 % of the ranges 2-40 m long), four seeds. Measured, anchor = beacons (rank 7): 0.65 / 0.90
+  // / 0.56 / 0.51 m (seeds 202 / 212 / 222 / 232; 3.03 / 2.15 / 0.56 / 2.54 m when the first
+  // window that passed the self-check was taken); dead reckoning 1.75 / 1.23 / 2.07 / 2.12 m.
+  // anchor = start_pose (rank 4), seeds 202 / 212: 0.86 / 0.97 m (2.75 / 1.81 before).
+  // Bounds: issue 15's targets (1.0 m beacons, 1.5 m start pose).
+  for (const uint64_t seed : {202u, 212u, 222u, 232u}) {
+    sim::SimConfig c;
+    c.seed = seed;
+    c.num_steps = 3000;
+    c.path = sim::PathKind::kLawnMower;
+    c.num_beacons = 6;
+    c.schedule = sim::RangeSchedule::kRoundRobin;
+    c.range_rate_hz = 2.0;
+    c.range_sigma_m = 0.3;
+    c.odo_distance_sigma_rel = 0.02;
+    c.odo_heading_sigma_rad = 0.003;
+    c.outlier_fraction = 0.3;
+    c.outlier_min_m = 2.0;
+    c.outlier_max_m = 40.0;
+    const sim::SimRun run = sim::simulate(c);
+    for (const bool start_pose : {false, true}) {
+      if (start_pose && seed > 212u) continue;
+      SpectralConfig config;
+      if (start_pose) {
+        config.anchor = SpectralAnchor::kStartPose;
+        config.rank = 4;
+      }
+      SpectralSlam slam(config);
+      feed(slam, run);
+      slam.finish();
+      ASSERT_TRUE(slam.solution().has_value()) << "seed " << seed << ": " << slam.lastRejection();
+      const double mean_m = pathErrors(slam.solution()->trajectory, run.ground_truth).mean_m;
+      std::printf("30 %% NLOS seed %u %s: %.3f m, window %.0f s\n", static_cast<unsigned>(seed),
+                  start_pose ? "start pose" : "beacons", mean_m, slam.solution()->window_s);
+      EXPECT_LT(mean_m, start_pose ? 1.5 : 1.0) << "seed " << seed;
+    }
+  }
 }
 
 TEST(SpectralRefusal, AuvLikeSparseRunPublishesNothingAndSaysWhy) {
@@ -182,9 +194,13 @@ TEST(SpectralRefusal, AuvLikeSparseRunPublishesNothingAndSaysWhy) {
   c.odo_heading_sigma_rad = 0.005;
   c.odo_distance_scale = 0.97;
   const sim::SimRun run = sim::simulate(c);
+  // Online mode too: its self-check on the data so far holds every pose, so nothing goes out
+  // before finish() refuses (it published the start pose and dead reckoning before).
+  for (const bool online : {false, true}) {
   for (SpectralAnchor anchor : {SpectralAnchor::kBeacons, SpectralAnchor::kStartPose}) {
     SpectralConfig config;
     config.anchor = anchor;
+    if (online) config.mode = SpectralMode::kOnline;
     SpectralSlam slam(config);
     feed(slam, run, anchor == SpectralAnchor::kBeacons);
     ASSERT_NO_THROW(slam.finish());
@@ -193,7 +209,8 @@ TEST(SpectralRefusal, AuvLikeSparseRunPublishesNothingAndSaysWhy) {
     EXPECT_EQ(slam.lastRejection().rfind("data: spectral: ", 0), 0u) << slam.lastRejection();
     Path path;
     EXPECT_FALSE(slam.trajectory(true, &path));
-    EXPECT_TRUE(slam.takePoses().empty());
+    EXPECT_TRUE(slam.takePoses().empty()) << (online ? "online" : "batch");
+  }
   }
 }
 
