@@ -531,6 +531,23 @@ void SpectralBatchSlam::solveNow(bool final) {
         << "): no solution (check range_sigma_m, the odometry noise keys and loss)";
     throw std::runtime_error(why.str());
   }
+  const bool any_beacon_fixed =
+      std::find(problem.beacon_fixed.begin(), problem.beacon_fixed.end(), true) != problem.beacon_fixed.end();
+  const double inlier_fraction =
+      problem.ranges.empty() ? 1.0 : static_cast<double>(summary_.range_inliers) / static_cast<double>(problem.ranges.size());
+  setDiagnostic("ranges_inlier_fraction", inlier_fraction);
+  if (final && !any_beacon_fixed && inlier_fraction < config_.min_inlier_fraction) {
+    // Beacons fitted to the same ranges, most of which the solution calls outliers: below the
+    // robust loss's breakdown point a wrong basin explaining another minority fits as well.
+    setState(EstimatorState::kFailed);
+    std::ostringstream why;
+    why << "spectral_batch: the solve explains only " << summary_.range_inliers << " of "
+        << problem.ranges.size() << " ranges as inliers, under min_inlier_fraction "
+        << config_.min_inlier_fraction
+        << " with no surveyed beacon: no solution (survey the beacons with anchor = beacons, or check "
+           "range_sigma_m and loss)";
+    throw std::runtime_error(why.str());
+  }
   if (!summary_.converged && config_.verbose)
     std::cerr << "spectral_batch: the last stage stopped at max_iterations (" << config_.max_iterations
               << ") before converging\n";
