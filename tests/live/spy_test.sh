@@ -30,7 +30,7 @@ Xvfb "$display" -screen 0 1280x800x24 >/dev/null 2>&1 & xvfb_pid=$!
 sleep 1
 DISPLAY="$display" ip netns exec "$ns" "$bin/roam-spy" --lcm-url="$url" >"$work/spy.txt" 2>&1 &
 for _ in $(seq 100); do grep -q "LCM types" "$work/spy.txt" && break; sleep 0.2; done
-grep -q "Found 7 LCM types" "$work/spy.txt" || { echo "FAILED: spy did not find the 7 roam types"; cat "$work/spy.txt"; exit 1; }
+grep -q "Found 8 LCM types" "$work/spy.txt" || { echo "FAILED: spy did not find the 8 roam types (7 messages and the older odometry layout)"; cat "$work/spy.txt"; exit 1; }
 ip netns exec "$ns" "$bin/roam-run" "$source/tests/live/live.ini" --input "$url" --output "" \
   >"$work/runtime.txt" 2>&1 &
 sleep 1
