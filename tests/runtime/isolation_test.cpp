@@ -167,6 +167,7 @@ TEST(Isolation, AMemoryLimitStopsAHungryPluginAlone) {
 // The "done when", on the real thing: configs/plaza1-compare.ini (every shipped estimator
 // configuration) over Plaza 1, with a crashing and then a hanging plugin added.
 TEST(Isolation, ThePlaza1ComparisonSurvivesACrashAndAHangAmongItsEstimators) {
+  ROAM_SKIP_UNDER_SANITIZERS("UBSan reports the deliberate null store before the SIGSEGV");
   const fs::path dir = scratchDir("isolation_plaza");
   std::ifstream compare(fs::path(ROAM_SOURCE_DIR) / "configs/plaza1-compare.ini");
   std::string line, text;
