@@ -160,29 +160,7 @@ TEST(EkfCalibration, AuvSparseOutliersBeaconsBeatDeadReckoningAndRepeat) {
   // 45 % outliers (-150..+100 m), true sigma 2 m stated as 0.75 m, odometry 15 % noisy and 3 % short.
   // Measured 11.5 m against dead reckoning's 16.6 m. A regression guard on this seed only: seeds
   // 204-206 of the same run still diverge (75, 21, 143 m against 18, 8, 17 m), see the README.
-  sim::SimConfig c;
-  c.seed = 203;
-  c.num_steps = 500;
-  c.dt_s = 3.0;
-  c.speed_mps = 1.5;
-  c.path = sim::PathKind::kLawnMower;
-  c.area_width_m = 300.0;
-  c.area_height_m = 200.0;
-  c.lane_spacing_m = 50.0;
-  c.num_beacons = 4;
-  c.beacon_margin_m = 200.0;
-  c.schedule = sim::RangeSchedule::kRoundRobin;
-  c.range_rate_hz = 0.3;
-  c.range_sigma_m = 2.0;
-  c.range_sigma_reported_m = 0.75;
-  c.outlier_fraction = 0.45;
-  c.outlier_min_m = -150.0;
-  c.outlier_max_m = 100.0;
-  c.odo_distance_sigma_rel = 0.15;
-  c.odo_lateral_sigma_rel = 0.15;
-  c.odo_heading_sigma_rad = 0.005;
-  c.odo_distance_scale = 0.97;
-  const sim::SimRun run = sim::simulate(c);
+  const sim::SimRun run = sim::simulate(sim::auvLikeWorld(203, 500));
   EkfConfig config;
   config.anchor = "beacons";
   EkfSlam ekf(config), again(config);

@@ -172,27 +172,8 @@ TEST(SpectralRefusal, AuvLikeSparseRunPublishesNothingAndSaysWhy) {
   // roam-sim's AUV-like run: 4 beacons 200 m out, one range every ~3 s (0.3 Hz round robin, so
   // one per beacon every ~13 s), 2 m noise, 45 % outliers from -150 to +100 m, 15 % odometry.
   // The windows cannot fit that: no solution, the reason in STATUS, no pose published.
-  sim::SimConfig c;
-  c.seed = 203;
-  c.num_steps = 500;
-  c.dt_s = 3.0;
-  c.speed_mps = 1.5;
-  c.path = sim::PathKind::kLawnMower;
-  c.area_width_m = 300.0;
-  c.area_height_m = 200.0;
-  c.lane_spacing_m = 50.0;
-  c.num_beacons = 4;
-  c.beacon_margin_m = 200.0;
-  c.schedule = sim::RangeSchedule::kRoundRobin;
-  c.range_rate_hz = 0.3;
-  c.range_sigma_m = 2.0;
-  c.outlier_fraction = 0.45;
-  c.outlier_min_m = -150.0;
-  c.outlier_max_m = 100.0;
-  c.odo_distance_sigma_rel = 0.15;
-  c.odo_lateral_sigma_rel = 0.15;
-  c.odo_heading_sigma_rad = 0.005;
-  c.odo_distance_scale = 0.97;
+  sim::SimConfig c = sim::auvLikeWorld(203, 500);
+  c.range_sigma_reported_m = 0.0;  // no stated sigma: the estimator's configured one
   const sim::SimRun run = sim::simulate(c);
   // Online mode too: its self-check on the data so far holds every pose, so nothing goes out
   // before finish() refuses (it published the start pose and dead reckoning before).

@@ -290,28 +290,7 @@ TEST(SpectralBatchSlam, HeavyOutliersInBothAnchors) {
 TEST(SpectralBatchSlam, SparseAuvLikeRunWithSurveyedBeacons) {
   // Steps of 4.5 m every 3 s, one range every ~3 s to beacons 200 m out, 45 % of them off by
   // -150..100 m, stated sigma 0.75 m for 2 m of noise, odometry 15 % noisy and 3 % short.
-  sim::SimConfig sim_config;
-  sim_config.seed = 303;
-  sim_config.num_steps = 300;
-  sim_config.dt_s = 3.0;
-  sim_config.speed_mps = 1.5;
-  sim_config.area_width_m = 300.0;
-  sim_config.area_height_m = 200.0;
-  sim_config.lane_spacing_m = 50.0;
-  sim_config.num_beacons = 4;
-  sim_config.beacon_margin_m = 200.0;
-  sim_config.schedule = sim::RangeSchedule::kRoundRobin;
-  sim_config.range_rate_hz = 0.3;
-  sim_config.range_sigma_m = 2.0;
-  sim_config.range_sigma_reported_m = 0.75;
-  sim_config.outlier_fraction = 0.45;
-  sim_config.outlier_min_m = -150.0;
-  sim_config.outlier_max_m = 100.0;
-  sim_config.odo_distance_sigma_rel = 0.15;
-  sim_config.odo_lateral_sigma_rel = 0.15;
-  sim_config.odo_heading_sigma_rad = 0.005;
-  sim_config.odo_distance_scale = 0.97;
-  const Dataset data = sim::simulate(sim_config);
+  const Dataset data = sim::simulate(sim::auvLikeWorld(303, 300));
   const double dead_reckoning_m = deadReckoningError_m(data);
   for (const char* anchor : {"start_pose", "beacons"}) {
     SpectralBatchConfig config;

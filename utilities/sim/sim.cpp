@@ -104,6 +104,32 @@ PathKind parsePathKind(const std::string& name) {
                               "' (expected random_walk | lawn_mower | loop | figure8)");
 }
 
+SimConfig auvLikeWorld(uint64_t seed, int num_steps) {
+  SimConfig c;
+  c.seed = seed;
+  c.num_steps = num_steps;
+  c.dt_s = 3.0;
+  c.speed_mps = 1.5;
+  c.path = PathKind::kLawnMower;
+  c.area_width_m = 300.0;
+  c.area_height_m = 200.0;
+  c.lane_spacing_m = 50.0;
+  c.num_beacons = 4;
+  c.beacon_margin_m = 200.0;
+  c.schedule = RangeSchedule::kRoundRobin;
+  c.range_rate_hz = 0.3;
+  c.range_sigma_m = 2.0;
+  c.range_sigma_reported_m = 0.75;
+  c.outlier_fraction = 0.45;
+  c.outlier_min_m = -150.0;
+  c.outlier_max_m = 100.0;
+  c.odo_distance_sigma_rel = 0.15;
+  c.odo_lateral_sigma_rel = 0.15;
+  c.odo_heading_sigma_rad = 0.005;
+  c.odo_distance_scale = 0.97;
+  return c;
+}
+
 SimRun simulate(const SimConfig& c) {
   if (c.num_steps < 1) throw std::invalid_argument("num_steps must be >= 1");
   if (c.dt_s <= 0.0) throw std::invalid_argument("dt_s must be > 0");

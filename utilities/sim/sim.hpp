@@ -86,5 +86,11 @@ SimRun simulate(const SimConfig& config);
 // Parses "random_walk" | "lawn_mower" | "loop" | "figure8"; throws std::invalid_argument otherwise.
 PathKind parsePathKind(const std::string& name);
 
+// The AUV-like world of logs/synthetic/auv-sparse (there with seed 108 and 500 steps): 3 s steps
+// at 1.5 m/s on a 300 x 200 m lawn mower, 4 beacons up to 200 m outside, one range every ~3 s
+// (0.3 Hz round robin), 2 m of noise stated as 0.75 m, 45 % outliers from -150 to +100 m,
+// odometry 15 % noisy forward and sideways and 3 % short. Every suite's AUV test starts here.
+SimConfig auvLikeWorld(uint64_t seed, int num_steps);
+
 }  // namespace sim
 }  // namespace roam
