@@ -116,24 +116,8 @@ double deadReckoningError(const sim::SimRun& run) {
   return meanError(path, run.ground_truth);
 }
 
-sim::SimConfig gyroDriftFigure8() {
-  // The brief's gyro-drift run (seed 201), 3000 steps of 0.2 s: 0.01 rad/s (0.57 deg/s) of bias.
-  sim::SimConfig c;
-  c.seed = 201;
-  c.num_steps = 3000;
-  c.dt_s = 0.2;
-  c.speed_mps = 1.0;
-  c.path = sim::PathKind::kFigureEight;
-  c.loop_radius_m = 12.0;
-  c.num_beacons = 6;
-  c.schedule = sim::RangeSchedule::kRoundRobin;
-  c.range_rate_hz = 2.0;
-  c.range_sigma_m = 0.3;
-  c.odo_distance_sigma_rel = 0.02;
-  c.odo_heading_sigma_rad = 0.003;
-  c.odo_heading_bias_radps = 0.01;
-  return c;
-}
+// The brief's gyro-drift run (seed 201), 3000 steps of 0.2 s: 0.01 rad/s (0.57 deg/s) of bias.
+sim::SimConfig gyroDriftFigure8() { return sim::gyroDriftFigure8World(201, 3000); }
 
 TEST(EkfCalibration, GyroDriftFigure8StartPose) {
   // Measured: 0.34 m mean error with the bias recovered to 0.0097 rad/s (dead reckoning 22 m).

@@ -203,21 +203,7 @@ TEST(OnlineEmNoisy, RangeBearingWithMixtureNoise) {
 
 // Gyro drift on a figure-8 (the kind of issue 15's held-out run): 0.01 rad/s of heading-rate
 // bias, 2 % distance noise, 0.003 rad heading noise per step, 6 beacons at 2 Hz.
-sim::SimConfig gyroDriftFigure8(int steps, uint64_t seed) {
-  sim::SimConfig c;
-  c.seed = seed;
-  c.num_steps = steps;
-  c.path = sim::PathKind::kFigureEight;
-  c.loop_radius_m = 12.0;
-  c.num_beacons = 6;
-  c.schedule = sim::RangeSchedule::kRoundRobin;
-  c.range_rate_hz = 2.0;
-  c.range_sigma_m = 0.3;
-  c.odo_distance_sigma_rel = 0.02;
-  c.odo_heading_sigma_rad = 0.003;
-  c.odo_heading_bias_radps = 0.01;
-  return c;
-}
+sim::SimConfig gyroDriftFigure8(int steps, uint64_t seed) { return sim::gyroDriftFigure8World(seed, steps); }
 
 TEST(OnlineEmCalibration, GyroBiasIsLearnedAndTheStartFrameCorrected) {
   const Dataset data = sim::simulate(gyroDriftFigure8(2500, 7));

@@ -130,6 +130,24 @@ SimConfig auvLikeWorld(uint64_t seed, int num_steps) {
   return c;
 }
 
+SimConfig gyroDriftFigure8World(uint64_t seed, int num_steps) {
+  SimConfig c;
+  c.seed = seed;
+  c.num_steps = num_steps;
+  c.dt_s = 0.2;
+  c.speed_mps = 1.0;
+  c.path = PathKind::kFigureEight;
+  c.loop_radius_m = 12.0;
+  c.num_beacons = 6;
+  c.schedule = RangeSchedule::kRoundRobin;
+  c.range_rate_hz = 2.0;
+  c.range_sigma_m = 0.3;
+  c.odo_distance_sigma_rel = 0.02;
+  c.odo_heading_sigma_rad = 0.003;
+  c.odo_heading_bias_radps = 0.01;
+  return c;
+}
+
 SimRun simulate(const SimConfig& c) {
   if (c.num_steps < 1) throw std::invalid_argument("num_steps must be >= 1");
   if (c.dt_s <= 0.0) throw std::invalid_argument("dt_s must be > 0");

@@ -92,5 +92,11 @@ PathKind parsePathKind(const std::string& name);
 // odometry 15 % noisy forward and sideways and 3 % short. Every suite's AUV test starts here.
 SimConfig auvLikeWorld(uint64_t seed, int num_steps);
 
+// The drifting-gyro world of logs/synthetic/drift-figure8 (there seed 106, 4000 steps): a
+// figure-8 of two 12 m circles at 1 m/s in 0.2 s steps, 6 beacons at 2 Hz round robin, 0.3 m
+// range noise, 2 % odometry, 0.003 rad heading noise per step and 0.01 rad/s (0.57 deg/s) of
+// gyro bias.
+SimConfig gyroDriftFigure8World(uint64_t seed, int num_steps);
+
 }  // namespace sim
 }  // namespace roam
