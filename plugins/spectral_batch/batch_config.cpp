@@ -49,6 +49,8 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
         "anchor = start_pose: align the final rotation to calibrated odometry over this much travel (0: off)").min(0.0);
   o.add("min_inlier_fraction", &c->min_inlier_fraction,
         "no beacon fixed: fail when fewer ranges than this fraction are inliers (0: off)").min(0.0).max(1.0);
+  o.add("fallback_deadreckoning", &c->fallback_deadreckoning,
+        "an untrusted final solve publishes dead reckoning (with the reason) instead of failing");
   o.add("estimate_beacon_offsets", &c->estimate_beacon_offsets, "estimate a range offset per beacon");
   o.add("beacon_offset_sigma_m", &c->beacon_offset_sigma_m, "prior sigma of each beacon's range offset").min(0.0, false);
   o.add("range_scale_sigma", &c->range_scale_sigma, "prior sigma of the range scale about 1 (0: none)").min(0.0);

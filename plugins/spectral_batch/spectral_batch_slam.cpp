@@ -449,6 +449,7 @@ void SpectralBatchSlam::solveNow(bool final) {
                              odometry_calibration_);
   bool from_spectral = seeded_by_spectral_;
   std::array<double, 2> factors{best.problem.odometry_sigma_factor, best.problem.range_sigma_factor};
+  Candidate alone;  // final: dead reckoning with its multilaterated beacons, evaluated
   if (final) {
     // The odometry-alone hypothesis: dead reckoning, beacons multilaterated (robustly) from it.
     // Then the solve from it (init = deadreckoning); with a spectral seed both are solved and the
@@ -480,7 +481,7 @@ void SpectralBatchSlam::solveNow(bool final) {
       }
       factors = {best.problem.odometry_sigma_factor, best.problem.range_sigma_factor};
     }
-    const Candidate alone = solveFrom(dr, nullptr, false, true, tied, true, factors, {1.0, 0.0});
+    alone = solveFrom(dr, nullptr, false, true, tied, true, factors, {1.0, 0.0});
     odometry_alone_cost_ = alone.summary.final_cost;
     best_cost_ = costWithNoise(best, factors);
     setDiagnostic("odometry_alone_cost", odometry_alone_cost_);
@@ -524,12 +525,11 @@ void SpectralBatchSlam::solveNow(bool final) {
   }
   if (final && best_cost_ > odometry_alone_cost_ * (1.0 + 1e-9) + 1e-9) {
     // Ranges and odometry together explain the data worse than odometry alone: a wrong basin.
-    setState(EstimatorState::kFailed);
     std::ostringstream why;
     why << "spectral_batch: the solve ended at robust cost " << best_cost_
         << ", above odometry alone (" << odometry_alone_cost_
         << "): no solution (check range_sigma_m, the odometry noise keys and loss)";
-    throw std::runtime_error(why.str());
+    return refuse(std::move(alone), why.str());
   }
   const bool any_beacon_fixed =
       std::find(problem.beacon_fixed.begin(), problem.beacon_fixed.end(), true) != problem.beacon_fixed.end();
@@ -539,14 +539,13 @@ void SpectralBatchSlam::solveNow(bool final) {
   if (final && !any_beacon_fixed && inlier_fraction < config_.min_inlier_fraction) {
     // Beacons fitted to the same ranges, most of which the solution calls outliers: below the
     // robust loss's breakdown point a wrong basin explaining another minority fits as well.
-    setState(EstimatorState::kFailed);
     std::ostringstream why;
     why << "spectral_batch: the solve explains only " << summary_.range_inliers << " of "
         << problem.ranges.size() << " ranges as inliers, under min_inlier_fraction "
         << config_.min_inlier_fraction
         << " with no surveyed beacon: no solution (survey the beacons with anchor = beacons, or check "
            "range_sigma_m and loss)";
-    throw std::runtime_error(why.str());
+    return refuse(std::move(alone), why.str());
   }
   if (!summary_.converged && config_.verbose)
     std::cerr << "spectral_batch: the last stage stopped at max_iterations (" << config_.max_iterations
@@ -565,6 +564,33 @@ void SpectralBatchSlam::solveNow(bool final) {
   setDiagnostic("range_offset_m", calibration_[1]);
   setDiagnostic("odometry_distance_scale", odometry_calibration_[0]);
   setDiagnostic("heading_rate_bias_rad_s", odometry_calibration_[1]);
+  current_pose_ = solved_poses_.back();
+  last_solve_utime_ = pose_utime_.back();
+  new_solution_ = true;
+  emitMap(map());
+}
+
+void SpectralBatchSlam::refuse(Candidate alone, const std::string& why) {
+  if (!config_.fallback_deadreckoning) {
+    setState(EstimatorState::kFailed);
+    throw std::runtime_error(why);
+  }
+  // The data do not fix the solution (see the checks in solveNow), but the odometry alone is
+  // still an answer with a known error growth: dead reckoning from the start pose, uncalibrated
+  // (nothing the ranges say is trusted), with the beacons multilaterated from it. Published as
+  // the solution with the reason on stderr and in STATUS (dead_reckoning_fallback = 1).
+  std::cerr << why << "; publishing dead reckoning instead (fallback_deadreckoning = true)\n";
+  setDiagnostic("dead_reckoning_fallback", 1.0);
+  solved_poses_ = std::move(alone.state.poses);
+  solved_beacons_.clear();
+  beacon_offsets_m_.clear();
+  for (const auto& [id, index] : alone.index_of) solved_beacons_[id] = alone.state.beacons[index];
+  calibration_ = {1.0, 0.0};
+  odometry_calibration_ = {1.0, 0.0};
+  setDiagnostic("range_scale", 1.0);
+  setDiagnostic("range_offset_m", 0.0);
+  setDiagnostic("odometry_distance_scale", 1.0);
+  setDiagnostic("heading_rate_bias_rad_s", 0.0);
   current_pose_ = solved_poses_.back();
   last_solve_utime_ = pose_utime_.back();
   new_solution_ = true;

@@ -98,6 +98,9 @@ class SpectralBatchSlam : public Estimator {
   // The candidate's cost (final loss) with these odometry and range noise scales.
   double costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const;
   void solveNow(bool final);
+  // The final solve is not trusted (why): fail (fallback_deadreckoning = false), or publish dead
+  // reckoning (alone: its poses and multilaterated beacons) with the reason in STATUS.
+  void refuse(Candidate alone, const std::string& why);
   std::vector<std::array<double, 3>> initialPoses(bool final);
   Path currentPath() const;
 
