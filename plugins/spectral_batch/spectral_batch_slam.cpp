@@ -19,6 +19,12 @@ namespace {
 constexpr double kMinSeedSpeed_mps = 0.1;
 // Odometry noise-scale search: up to 32 times the configured noise (2 % per metre -> 64 %).
 constexpr double kMaxOdometryNoiseScale = 32.0;
+// Heading-rate bias scan: stop refining once half a step of bias leaves at most this heading
+// error at the end of the run (a local solve, which estimates the bias itself, starts in its
+// basin from there: 0.25 rad is ~1 m sideways per 4 m of travel at the far end, halved on
+// average over the path), and never beyond 3 levels (the old fixed depth).
+constexpr double kScanHeadingTolerance_rad = 0.25;
+constexpr int kMaxScanLevels = 3;
 
 Pose toPose(int64_t utime, const std::array<double, 3>& pose) {
   Pose out;
@@ -308,6 +314,11 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
     const double n = 3.0 * static_cast<double>(problem.odometry.size());
     double best_nll = out.summary.final_cost;
     for (double k = 2.0; k <= kMaxOdometryNoiseScale; k *= 2.0) {
+      // Doubling k divides the odometry part of the cost by 4 and leaves the rest (ranges,
+      // priors; all >= 0), so no state costs less than a quarter of the current minimum C:
+      // nll(2k) >= C / 4 + n log(2k). When n log 2 >= 3 C / 4 the trial cannot improve the
+      // likelihood and its solve is skipped (Plaza-sized runs: most of a solve's time).
+      if (n * std::log(2.0) >= 0.75 * out.summary.final_cost) break;
       batch::Problem trial_problem = problem;
       batch::State trial_state = state;
       trial_problem.odometry_sigma_factor = k;
@@ -399,12 +410,16 @@ double SpectralBatchSlam::scanHeadingRateBias(const std::vector<Tie>& tied) cons
     }
     return cost;
   };
-  // Coarse to fine over +-3 prior sigmas: 31 points, then 2 refinements of 21 points each.
+  // Coarse to fine over +-3 prior sigmas: 31 points, then refinements of 21 points at a tenth of
+  // the step, until half a step leaves at most kScanHeadingTolerance_rad of heading error at the
+  // end of the run. The batch solve estimates the bias itself; the scan only has to start it in
+  // its basin.
+  const double duration_s = 1e-6 * static_cast<double>(pose_utime_.back() - pose_utime_.front());
   const double span = 3.0 * config_.heading_rate_bias_sigma_rad_s;
   double best = 0.0, best_cost = score(0.0);
   double step = span / 15.0;
   double centre = 0.0;
-  for (int level = 0; level < 3; ++level) {
+  for (int level = 0; level < kMaxScanLevels; ++level) {
     const int half = level == 0 ? 15 : 10;
     for (int i = -half; i <= half; ++i) {
       const double b = centre + step * i;
@@ -415,6 +430,7 @@ double SpectralBatchSlam::scanHeadingRateBias(const std::vector<Tie>& tied) cons
         best = b;
       }
     }
+    if (0.5 * step * duration_s <= kScanHeadingTolerance_rad) break;
     centre = best;
     step /= 10.0;
   }
@@ -444,26 +460,33 @@ void SpectralBatchSlam::solveNow(bool final) {
   // errors (a 2 % turn error is degrees) rotate the whole solution about the start: on Plaza 1
   // the pinned optimum is rotated ~6 deg, metres at the far end. So with a spectral seed only the
   // start position is fixed and the rotation gauge stays where the seed put it.
+  // Final solve: the dead-reckoning seed with the heading-rate bias that best explains the
+  // ranges (a scan): a gyro drift of 0.3 deg/s curls a 30-minute path into circles no local
+  // solve unwinds. Without a spectral seed or a previous solve it is the only seed, solved once;
+  // with one, both are solved and the lower robust cost, under the same (wider) noise scales,
+  // is kept (a seed dragged by outliers loses).
+  double bias_rad_s = 0.0;
+  if (final) {
+    bias_rad_s = config_.estimate_odometry_calibration ? scanHeadingRateBias(tied) : 0.0;
+    setDiagnostic("heading_rate_bias_scan_rad_s", bias_rad_s);
+  }
+  const std::array<double, 2> scanned_calibration{1.0, bias_rad_s};
+  const bool dead_reckoning_only = final && !seeded_by_spectral_ && solved_poses_.empty();
+  if (dead_reckoning_only)
+    poses = batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
   Candidate best = solveFrom(std::move(poses), seeded_by_spectral ? &spectral_map : nullptr,
                              !seeded_by_spectral, !seeded_by_spectral_, tied, false, noise_factors_,
-                             odometry_calibration_);
+                             dead_reckoning_only ? scanned_calibration : odometry_calibration_);
   bool from_spectral = seeded_by_spectral_;
   std::array<double, 2> factors{best.problem.odometry_sigma_factor, best.problem.range_sigma_factor};
   Candidate alone;  // final: dead reckoning with its multilaterated beacons, evaluated
   if (final) {
     // The odometry-alone hypothesis: dead reckoning, beacons multilaterated (robustly) from it.
-    // Then the solve from it (init = deadreckoning); with a spectral seed both are solved and the
-    // lower robust cost, under the same (wider) noise scales, is kept: a seed dragged by
-    // outliers loses.
     const std::vector<std::array<double, 3>> dr = batch::deadReckon(start_pose_, odometry_, dt_s_);
-    // The dead-reckoning seed with the heading-rate bias that best explains the ranges (a scan):
-    // a gyro drift of 0.3 deg/s curls a 30-minute path into circles no local solve unwinds.
-    const double bias_rad_s = config_.estimate_odometry_calibration ? scanHeadingRateBias(tied) : 0.0;
-    setDiagnostic("heading_rate_bias_scan_rad_s", bias_rad_s);
-    const std::vector<std::array<double, 3>> dr_biased =
-        batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
-    if (from_spectral || bias_rad_s != 0.0) {
-      Candidate from_dr = solveFrom(dr_biased, nullptr, false, true, tied, false, noise_factors_, {1.0, bias_rad_s});
+    if (!dead_reckoning_only && (from_spectral || bias_rad_s != 0.0)) {
+      const std::vector<std::array<double, 3>> dr_biased =
+          batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
+      Candidate from_dr = solveFrom(dr_biased, nullptr, false, true, tied, false, noise_factors_, scanned_calibration);
       if (from_dr.summary.usable) {
         const std::array<double, 2> common{
             std::max(factors[0], from_dr.problem.odometry_sigma_factor),
