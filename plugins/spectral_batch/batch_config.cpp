@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 namespace roam {
+namespace spectral_batch {
 
 double effectiveLossScale(const SpectralBatchConfig& c) {
   if (c.loss_scale > 0.0) return c.loss_scale;
@@ -105,4 +106,5 @@ void validate(const SpectralBatchConfig& c) {
   if (c.num_threads < 1) fail("num_threads >= 1");
 }
 
+}  // namespace spectral_batch
 }  // namespace roam

@@ -8,6 +8,7 @@
 #include "roam/options.hpp"
 
 namespace roam {
+namespace spectral_batch {
 
 struct SpectralBatchConfig {
   // Initial guess of the first solve: "spectral" (the spectral core's path and map) or
@@ -150,4 +151,5 @@ void addSpectralBatchOptions(Options& options, SpectralBatchConfig* config);
 // Throws std::invalid_argument naming the first broken constraint (for direct construction).
 void validate(const SpectralBatchConfig& config);
 
+}  // namespace spectral_batch
 }  // namespace roam

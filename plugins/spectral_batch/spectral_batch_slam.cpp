@@ -13,6 +13,7 @@
 #include "spectral_seed.hpp"
 
 namespace roam {
+namespace spectral_batch {
 namespace {
 
 // A chord shorter than this speed times its window means the robot barely moved: no heading.
@@ -39,7 +40,7 @@ Pose toPose(int64_t utime, const std::array<double, 3>& pose) {
 
 SpectralBatchSlam::SpectralBatchSlam(const SpectralBatchConfig& config) : config_(config) {
   validate(config_);
-  if (config_.init == "spectral") spectral_ = batch::makeSpectralSeed(config_);
+  if (config_.init == "spectral") spectral_ = spectral_batch::makeSpectralSeed(config_);
 }
 
 SpectralBatchSlam::~SpectralBatchSlam() = default;
@@ -80,7 +81,7 @@ void SpectralBatchSlam::addOdometry(const Odometry& odometry) {
   acceptOdometry();
   if (spectral_) spectral_->addOdometry(odometry);
 
-  current_pose_ = batch::propagate(current_pose_, odometry, dt_s_.back(), odometryCalibration());
+  current_pose_ = spectral_batch::propagate(current_pose_, odometry, dt_s_.back(), odometryCalibration());
   emitPose(toPose(odometry.utime, current_pose_));
 
   if (config_.resolve_interval_s > 0.0 &&
@@ -121,7 +122,7 @@ std::vector<std::array<double, 3>> SpectralBatchSlam::initialPoses(bool final) {
     std::vector<std::array<double, 3>> poses = solved_poses_;
     while (poses.size() < num_poses) {
       const size_t k = poses.size() - 1;
-      poses.push_back(batch::propagate(poses.back(), odometry_[k], dt_s_[k], odometryCalibration()));
+      poses.push_back(spectral_batch::propagate(poses.back(), odometry_[k], dt_s_[k], odometryCalibration()));
     }
     return poses;
   }
@@ -138,10 +139,10 @@ std::vector<std::array<double, 3>> SpectralBatchSlam::initialPoses(bool final) {
       poses.reserve(num_poses);
       for (const Pose& pose : path) poses.push_back({pose.x_m, pose.y_m, pose.heading_rad});
       if (config_.seed_heading_window_s > 0.0) {
-        batch::headingsFromChords(pose_utime_, 0.5 * config_.seed_heading_window_s,
+        spectral_batch::headingsFromChords(pose_utime_, 0.5 * config_.seed_heading_window_s,
                                   0.5 * config_.seed_heading_window_s * kMinSeedSpeed_mps, &poses);
       } else if (config_.seed_heading_align_m > 0.0) {
-        batch::headingsFromOdometryAlignment(odometry_, 0.5 * config_.seed_heading_align_m, &poses);
+        spectral_batch::headingsFromOdometryAlignment(odometry_, 0.5 * config_.seed_heading_align_m, &poses);
       } else {
         // Unwrap the headings so each odometry residual starts from its small increment.
         for (size_t k = 1; k < poses.size(); ++k)
@@ -175,11 +176,11 @@ std::vector<std::array<double, 3>> SpectralBatchSlam::initialPoses(bool final) {
     std::vector<std::array<double, 3>> poses = solved_poses_;
     while (poses.size() < num_poses) {
       const size_t k = poses.size() - 1;
-      poses.push_back(batch::propagate(poses.back(), odometry_[k], dt_s_[k], odometryCalibration()));
+      poses.push_back(spectral_batch::propagate(poses.back(), odometry_[k], dt_s_[k], odometryCalibration()));
     }
     return poses;
   }
-  return batch::deadReckon(start_pose_, odometry_, dt_s_, odometryCalibration());
+  return spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, odometryCalibration());
 }
 
 std::vector<SpectralBatchSlam::Tie> SpectralBatchSlam::tieRanges(bool final) const {
@@ -227,8 +228,8 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
   std::set<int> ids;
   for (const Tie& t : tied) ids.insert(t.range->beacon_id);
   Candidate out;
-  batch::Problem& problem = out.problem;
-  batch::State& state = out.state;
+  spectral_batch::Problem& problem = out.problem;
+  spectral_batch::State& state = out.state;
   for (int id : ids) {
     std::array<double, 2> beacon{0.0, 0.0};
     bool have = false;
@@ -278,7 +279,7 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
   for (const Tie& t : tied) {
     const auto found = out.index_of.find(t.range->beacon_id);
     if (found == out.index_of.end()) continue;
-    batch::RangeObservation observation;
+    spectral_batch::RangeObservation observation;
     observation.pose = t.pose;
     observation.alpha = t.alpha;
     observation.beacon = found->second;
@@ -303,7 +304,7 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
   }
   problem.odometry_sigma_factor = noise_factors[0];
   problem.range_sigma_factor = noise_factors[1];
-  out.summary = batch::solve(config_, problem, &state, evaluate_only);
+  out.summary = spectral_batch::solve(config_, problem, &state, evaluate_only);
   // The odometry noise scale k by maximum likelihood (profile over k): every odometry sigma times
   // k adds n log k to the negative log-likelihood (n odometry residuals) and divides their squares
   // by k^2. k = 1, 2, 4, ... is tried, each solve warm-started from the last, while the
@@ -319,10 +320,10 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
       // nll(2k) >= C / 4 + n log(2k). When n log 2 >= 3 C / 4 the trial cannot improve the
       // likelihood and its solve is skipped (Plaza-sized runs: most of a solve's time).
       if (n * std::log(2.0) >= 0.75 * out.summary.final_cost) break;
-      batch::Problem trial_problem = problem;
-      batch::State trial_state = state;
+      spectral_batch::Problem trial_problem = problem;
+      spectral_batch::State trial_state = state;
       trial_problem.odometry_sigma_factor = k;
-      batch::Summary trial = batch::solve(config_, trial_problem, &trial_state);
+      spectral_batch::Summary trial = spectral_batch::solve(config_, trial_problem, &trial_state);
       const double nll = trial.final_cost + n * std::log(k);
       if (!trial.usable || !(nll < best_nll)) break;
       best_nll = nll;
@@ -335,7 +336,7 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
   return out;
 }
 
-void SpectralBatchSlam::alignRotationToOdometry(batch::State* state) {
+void SpectralBatchSlam::alignRotationToOdometry(spectral_batch::State* state) {
   // Rotation about pose 0 leaves every residual unchanged (no beacon is fixed): the gauge. It is
   // set as the spectral core sets it: the rotation that best aligns (least squares) the solved
   // positions over the first gauge_align_m of travel to the calibrated dead reckoning from the
@@ -343,7 +344,7 @@ void SpectralBatchSlam::alignRotationToOdometry(batch::State* state) {
   // than one start heading, and far better than a spectral seed fitted to biased odometry.
   std::vector<std::array<double, 3>>& poses = state->poses;
   const estimation::OdometryCalibration calibration{state->odometry_calibration[0], state->odometry_calibration[1]};
-  const std::vector<std::array<double, 3>> dr = batch::deadReckon(start_pose_, odometry_, dt_s_, calibration);
+  const std::vector<std::array<double, 3>> dr = spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, calibration);
   double dot = 0.0, cross = 0.0, travelled_m = 0.0;
   for (size_t k = 1; k < poses.size() && travelled_m <= config_.gauge_align_m; ++k) {
     travelled_m += std::hypot(odometry_[k - 1].forward_m, odometry_[k - 1].lateral_m);
@@ -375,7 +376,7 @@ double SpectralBatchSlam::scanHeadingRateBias(const std::vector<Tie>& tied) cons
   const double c = 2.385;
   auto score = [&](double bias_rad_s) {
     const std::vector<std::array<double, 3>> poses =
-        batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
+        spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
     std::map<int, std::vector<std::array<double, 2>>> positions;
     std::map<int, std::vector<double>> ranges;
     std::map<int, double> sigma;
@@ -438,11 +439,11 @@ double SpectralBatchSlam::scanHeadingRateBias(const std::vector<Tie>& tied) cons
 }
 
 double SpectralBatchSlam::costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const {
-  batch::Problem problem = candidate.problem;
-  batch::State state = candidate.state;
+  spectral_batch::Problem problem = candidate.problem;
+  spectral_batch::State state = candidate.state;
   problem.odometry_sigma_factor = noise_factors[0];
   problem.range_sigma_factor = noise_factors[1];
-  return batch::solve(config_, problem, &state, true).final_cost;
+  return spectral_batch::solve(config_, problem, &state, true).final_cost;
 }
 
 void SpectralBatchSlam::solveNow(bool final) {
@@ -473,7 +474,7 @@ void SpectralBatchSlam::solveNow(bool final) {
   const std::array<double, 2> scanned_calibration{1.0, bias_rad_s};
   const bool dead_reckoning_only = final && !seeded_by_spectral_ && solved_poses_.empty();
   if (dead_reckoning_only)
-    poses = batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
+    poses = spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
   Candidate best = solveFrom(std::move(poses), seeded_by_spectral ? &spectral_map : nullptr,
                              !seeded_by_spectral, !seeded_by_spectral_, tied, false, noise_factors_,
                              dead_reckoning_only ? scanned_calibration : odometry_calibration_);
@@ -482,10 +483,10 @@ void SpectralBatchSlam::solveNow(bool final) {
   Candidate alone;  // final: dead reckoning with its multilaterated beacons, evaluated
   if (final) {
     // The odometry-alone hypothesis: dead reckoning, beacons multilaterated (robustly) from it.
-    const std::vector<std::array<double, 3>> dr = batch::deadReckon(start_pose_, odometry_, dt_s_);
+    const std::vector<std::array<double, 3>> dr = spectral_batch::deadReckon(start_pose_, odometry_, dt_s_);
     if (!dead_reckoning_only && (from_spectral || bias_rad_s != 0.0)) {
       const std::vector<std::array<double, 3>> dr_biased =
-          batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
+          spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
       Candidate from_dr = solveFrom(dr_biased, nullptr, false, true, tied, false, noise_factors_, scanned_calibration);
       if (from_dr.summary.usable) {
         const std::array<double, 2> common{
@@ -516,8 +517,8 @@ void SpectralBatchSlam::solveNow(bool final) {
   setDiagnostic("range_noise_scale", factors[1]);
   setDiagnostic("init_spectral", from_spectral ? 1.0 : 0.0);
   summary_ = best.summary;
-  const batch::Problem& problem = best.problem;
-  batch::State& state = best.state;
+  const spectral_batch::Problem& problem = best.problem;
+  spectral_batch::State& state = best.state;
   ++solves_;
   if (config_.verbose) {
     std::cerr << "spectral_batch: solve " << solves_ << " over " << num_poses << " poses, "
@@ -639,7 +640,7 @@ Path SpectralBatchSlam::currentPath() const {
   for (size_t k = 0; k < pose_utime_.size(); ++k) {
     if (k > 0)
       pose = k < solved_poses_.size() ? solved_poses_[k]
-                                      : batch::propagate(pose, odometry_[k - 1], dt_s_[k - 1], odometryCalibration());
+                                      : spectral_batch::propagate(pose, odometry_[k - 1], dt_s_[k - 1], odometryCalibration());
     path.push_back(toPose(pose_utime_[k], pose));
   }
   return path;
@@ -653,4 +654,5 @@ bool SpectralBatchSlam::trajectory(bool force, Path* path) {
   return true;
 }
 
+}  // namespace spectral_batch
 }  // namespace roam

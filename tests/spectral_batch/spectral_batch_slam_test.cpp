@@ -14,6 +14,7 @@
 #include "spectral_seed.hpp"
 
 namespace roam {
+namespace spectral_batch {
 namespace {
 
 // A noisy 2-minute lawn mower with 4 beacons, every pose ranged to every beacon.
@@ -200,7 +201,7 @@ TEST(SpectralBatchSlam, BadConfigNamesTheKey) {
 TEST(SpectralBatchSlam, SpectralInitNeedsTheSpectralCore) {
   SpectralBatchConfig config;
   config.init = "spectral";
-  if (batch::spectralSeedAvailable()) {
+  if (spectral_batch::spectralSeedAvailable()) {
     EXPECT_NO_THROW(SpectralBatchSlam{config});
   } else {
     EXPECT_THROW(SpectralBatchSlam{config}, std::invalid_argument);
@@ -208,9 +209,11 @@ TEST(SpectralBatchSlam, SpectralInitNeedsTheSpectralCore) {
 }
 
 }  // namespace
+}  // namespace spectral_batch
 }  // namespace roam
 
 namespace roam {
+namespace spectral_batch {
 namespace {
 
 // Mean error of the dead reckoning of a run's own odometry from its start pose.
@@ -325,4 +328,5 @@ TEST(SpectralBatchSlam, SparseAuvLikeRunBothAnchors) {
 }
 
 }  // namespace
+}  // namespace spectral_batch
 }  // namespace roam
