@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 namespace roam {
+namespace spectral_batch {
 
 double effectiveLossScale(const SpectralBatchConfig& c) {
   if (c.loss_scale > 0.0) return c.loss_scale;
@@ -49,6 +50,8 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
         "anchor = start_pose: align the final rotation to calibrated odometry over this much travel (0: off)").min(0.0);
   o.add("min_inlier_fraction", &c->min_inlier_fraction,
         "no beacon fixed: fail when fewer ranges than this fraction are inliers (0: off)").min(0.0).max(1.0);
+  o.add("fallback_deadreckoning", &c->fallback_deadreckoning,
+        "an untrusted final solve publishes dead reckoning (with the reason) instead of failing");
   o.add("estimate_beacon_offsets", &c->estimate_beacon_offsets, "estimate a range offset per beacon");
   o.add("beacon_offset_sigma_m", &c->beacon_offset_sigma_m, "prior sigma of each beacon's range offset").min(0.0, false);
   o.add("range_scale_sigma", &c->range_scale_sigma, "prior sigma of the range scale about 1 (0: none)").min(0.0);
@@ -103,4 +106,5 @@ void validate(const SpectralBatchConfig& c) {
   if (c.num_threads < 1) fail("num_threads >= 1");
 }
 
+}  // namespace spectral_batch
 }  // namespace roam

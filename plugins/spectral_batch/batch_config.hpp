@@ -8,6 +8,7 @@
 #include "roam/options.hpp"
 
 namespace roam {
+namespace spectral_batch {
 
 struct SpectralBatchConfig {
   // Initial guess of the first solve: "spectral" (the spectral core's path and map) or
@@ -55,6 +56,12 @@ struct SpectralBatchConfig {
   // With surveyed beacons fixed, the map is outside information and the check does not apply.
   // 0: off.
   double min_inlier_fraction = 0.5;
+  // When a final solve fails a check above (or ends above odometry alone): true publishes dead
+  // reckoning from the start pose (the odometry alone, uncalibrated, beacons multilaterated from
+  // it) with dead_reckoning_fallback = 1 in STATUS and the reason on stderr; false fails the
+  // estimator with the reason. Dead reckoning is the answer the data still support: its error is
+  // the odometry's own, where a refused solve may be twice that.
+  bool fallback_deadreckoning = true;
 
   // Odometry noise per step (the same model and defaults as the ekf plugin, so estimators are
   // compared on equal terms): sigma_d = rel d + floor along the track;
@@ -144,4 +151,5 @@ void addSpectralBatchOptions(Options& options, SpectralBatchConfig* config);
 // Throws std::invalid_argument naming the first broken constraint (for direct construction).
 void validate(const SpectralBatchConfig& config);
 
+}  // namespace spectral_batch
 }  // namespace roam

@@ -13,7 +13,7 @@
 #include "roam/estimation/motion_model.hpp"
 
 namespace roam {
-namespace batch {
+namespace spectral_batch {
 namespace {
 
 // (x - mean) / sigma.
@@ -110,9 +110,9 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
               bool evaluate_only) {
   const size_t num_poses = state->poses.size();
   if (problem.odometry.size() + 1 != num_poses)
-    throw std::invalid_argument("batch::solve: need one pose more than odometry steps");
+    throw std::invalid_argument("spectral_batch::solve: need one pose more than odometry steps");
   if (problem.beacon_fixed.size() != state->beacons.size())
-    throw std::invalid_argument("batch::solve: one beacon_fixed flag per beacon");
+    throw std::invalid_argument("spectral_batch::solve: one beacon_fixed flag per beacon");
 
   ceres::Problem::Options problem_options;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -162,7 +162,7 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
   for (const RangeObservation& range : problem.ranges) {
     if (range.pose < 0 || static_cast<size_t>(range.pose) >= num_poses || range.beacon < 0 ||
         static_cast<size_t>(range.beacon) >= state->beacons.size())
-      throw std::invalid_argument("batch::solve: range refers to a missing pose or beacon");
+      throw std::invalid_argument("spectral_batch::solve: range refers to a missing pose or beacon");
     double* beacon = state->beacons[range.beacon].data();
     double* beacon_offset = &state->beacon_offsets_m[range.beacon];
     if (range.alpha == 0.0 || static_cast<size_t>(range.pose) + 1 == num_poses) {
@@ -303,5 +303,5 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
   return summary;
 }
 
-}  // namespace batch
+}  // namespace spectral_batch
 }  // namespace roam

@@ -18,7 +18,7 @@
 #include "roam/types.hpp"
 
 namespace roam {
-namespace batch {
+namespace spectral_batch {
 
 // A range tied to the pose chain: at pose `pose` (alpha = 0) or a fraction alpha of the way to
 // pose + 1.
@@ -90,5 +90,5 @@ Eigen::Matrix3d odometryCovariance(const SpectralBatchConfig& config, const Odom
 Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* state,
               bool evaluate_only = false);
 
-}  // namespace batch
+}  // namespace spectral_batch
 }  // namespace roam

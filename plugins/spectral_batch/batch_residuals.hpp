@@ -30,7 +30,7 @@
 #include "roam/estimation/motion_model.hpp"
 
 namespace roam {
-namespace batch {
+namespace spectral_batch {
 
 struct OdometryResidual {
   // increment = reported (u_m, v_m, w_rad); sqrt_information = L^T (upper triangular).
@@ -146,5 +146,5 @@ struct RangeAlongStepResidual {
   double alpha;
 };
 
-}  // namespace batch
+}  // namespace spectral_batch
 }  // namespace roam

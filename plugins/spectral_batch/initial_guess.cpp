@@ -4,7 +4,7 @@
 #include <cmath>
 
 namespace roam {
-namespace batch {
+namespace spectral_batch {
 
 std::array<double, 3> propagate(const std::array<double, 3>& pose, const Odometry& odometry, double dt_s,
                                 const estimation::OdometryCalibration& calibration) {
@@ -92,5 +92,5 @@ void headingsFromOdometryAlignment(const std::vector<Odometry>& odometry, double
   }
 }
 
-}  // namespace batch
+}  // namespace spectral_batch
 }  // namespace roam

@@ -14,7 +14,7 @@
 #include "roam/types.hpp"
 
 namespace roam {
-namespace batch {
+namespace spectral_batch {
 
 // dt_s[k]: duration of step k (empty: 0, so the heading-rate bias does not act).
 std::vector<std::array<double, 3>> deadReckon(const std::array<double, 3>& start_pose,
@@ -44,5 +44,5 @@ void headingsFromChords(const std::vector<int64_t>& utime, double half_window_s,
 void headingsFromOdometryAlignment(const std::vector<Odometry>& odometry, double half_window_m,
                                    std::vector<std::array<double, 3>>* poses);
 
-}  // namespace batch
+}  // namespace spectral_batch
 }  // namespace roam

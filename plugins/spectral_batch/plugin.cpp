@@ -6,10 +6,10 @@
 namespace {
 
 std::unique_ptr<roam::Estimator> makeSpectralBatch(roam::Options& options) {
-  roam::SpectralBatchConfig config;
-  roam::addSpectralBatchOptions(options, &config);
+  roam::spectral_batch::SpectralBatchConfig config;
+  roam::spectral_batch::addSpectralBatchOptions(options, &config);
   options.parse();
-  return std::make_unique<roam::SpectralBatchSlam>(config);
+  return std::make_unique<roam::spectral_batch::SpectralBatchSlam>(config);
 }
 
 }  // namespace

@@ -13,12 +13,19 @@
 #include "spectral_seed.hpp"
 
 namespace roam {
+namespace spectral_batch {
 namespace {
 
 // A chord shorter than this speed times its window means the robot barely moved: no heading.
 constexpr double kMinSeedSpeed_mps = 0.1;
 // Odometry noise-scale search: up to 32 times the configured noise (2 % per metre -> 64 %).
 constexpr double kMaxOdometryNoiseScale = 32.0;
+// Heading-rate bias scan: stop refining once half a step of bias leaves at most this heading
+// error at the end of the run (a local solve, which estimates the bias itself, starts in its
+// basin from there: 0.25 rad is ~1 m sideways per 4 m of travel at the far end, halved on
+// average over the path), and never beyond 3 levels (the old fixed depth).
+constexpr double kScanHeadingTolerance_rad = 0.25;
+constexpr int kMaxScanLevels = 3;
 
 Pose toPose(int64_t utime, const std::array<double, 3>& pose) {
   Pose out;
@@ -33,7 +40,7 @@ Pose toPose(int64_t utime, const std::array<double, 3>& pose) {
 
 SpectralBatchSlam::SpectralBatchSlam(const SpectralBatchConfig& config) : config_(config) {
   validate(config_);
-  if (config_.init == "spectral") spectral_ = batch::makeSpectralSeed(config_);
+  if (config_.init == "spectral") spectral_ = spectral_batch::makeSpectralSeed(config_);
 }
 
 SpectralBatchSlam::~SpectralBatchSlam() = default;
@@ -74,7 +81,7 @@ void SpectralBatchSlam::addOdometry(const Odometry& odometry) {
   acceptOdometry();
   if (spectral_) spectral_->addOdometry(odometry);
 
-  current_pose_ = batch::propagate(current_pose_, odometry, dt_s_.back(), odometryCalibration());
+  current_pose_ = spectral_batch::propagate(current_pose_, odometry, dt_s_.back(), odometryCalibration());
   emitPose(toPose(odometry.utime, current_pose_));
 
   if (config_.resolve_interval_s > 0.0 &&
@@ -115,7 +122,7 @@ std::vector<std::array<double, 3>> SpectralBatchSlam::initialPoses(bool final) {
     std::vector<std::array<double, 3>> poses = solved_poses_;
     while (poses.size() < num_poses) {
       const size_t k = poses.size() - 1;
-      poses.push_back(batch::propagate(poses.back(), odometry_[k], dt_s_[k], odometryCalibration()));
+      poses.push_back(spectral_batch::propagate(poses.back(), odometry_[k], dt_s_[k], odometryCalibration()));
     }
     return poses;
   }
@@ -132,10 +139,10 @@ std::vector<std::array<double, 3>> SpectralBatchSlam::initialPoses(bool final) {
       poses.reserve(num_poses);
       for (const Pose& pose : path) poses.push_back({pose.x_m, pose.y_m, pose.heading_rad});
       if (config_.seed_heading_window_s > 0.0) {
-        batch::headingsFromChords(pose_utime_, 0.5 * config_.seed_heading_window_s,
+        spectral_batch::headingsFromChords(pose_utime_, 0.5 * config_.seed_heading_window_s,
                                   0.5 * config_.seed_heading_window_s * kMinSeedSpeed_mps, &poses);
       } else if (config_.seed_heading_align_m > 0.0) {
-        batch::headingsFromOdometryAlignment(odometry_, 0.5 * config_.seed_heading_align_m, &poses);
+        spectral_batch::headingsFromOdometryAlignment(odometry_, 0.5 * config_.seed_heading_align_m, &poses);
       } else {
         // Unwrap the headings so each odometry residual starts from its small increment.
         for (size_t k = 1; k < poses.size(); ++k)
@@ -169,11 +176,11 @@ std::vector<std::array<double, 3>> SpectralBatchSlam::initialPoses(bool final) {
     std::vector<std::array<double, 3>> poses = solved_poses_;
     while (poses.size() < num_poses) {
       const size_t k = poses.size() - 1;
-      poses.push_back(batch::propagate(poses.back(), odometry_[k], dt_s_[k], odometryCalibration()));
+      poses.push_back(spectral_batch::propagate(poses.back(), odometry_[k], dt_s_[k], odometryCalibration()));
     }
     return poses;
   }
-  return batch::deadReckon(start_pose_, odometry_, dt_s_, odometryCalibration());
+  return spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, odometryCalibration());
 }
 
 std::vector<SpectralBatchSlam::Tie> SpectralBatchSlam::tieRanges(bool final) const {
@@ -221,8 +228,8 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
   std::set<int> ids;
   for (const Tie& t : tied) ids.insert(t.range->beacon_id);
   Candidate out;
-  batch::Problem& problem = out.problem;
-  batch::State& state = out.state;
+  spectral_batch::Problem& problem = out.problem;
+  spectral_batch::State& state = out.state;
   for (int id : ids) {
     std::array<double, 2> beacon{0.0, 0.0};
     bool have = false;
@@ -272,7 +279,7 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
   for (const Tie& t : tied) {
     const auto found = out.index_of.find(t.range->beacon_id);
     if (found == out.index_of.end()) continue;
-    batch::RangeObservation observation;
+    spectral_batch::RangeObservation observation;
     observation.pose = t.pose;
     observation.alpha = t.alpha;
     observation.beacon = found->second;
@@ -297,7 +304,7 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
   }
   problem.odometry_sigma_factor = noise_factors[0];
   problem.range_sigma_factor = noise_factors[1];
-  out.summary = batch::solve(config_, problem, &state, evaluate_only);
+  out.summary = spectral_batch::solve(config_, problem, &state, evaluate_only);
   // The odometry noise scale k by maximum likelihood (profile over k): every odometry sigma times
   // k adds n log k to the negative log-likelihood (n odometry residuals) and divides their squares
   // by k^2. k = 1, 2, 4, ... is tried, each solve warm-started from the last, while the
@@ -308,10 +315,15 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
     const double n = 3.0 * static_cast<double>(problem.odometry.size());
     double best_nll = out.summary.final_cost;
     for (double k = 2.0; k <= kMaxOdometryNoiseScale; k *= 2.0) {
-      batch::Problem trial_problem = problem;
-      batch::State trial_state = state;
+      // Doubling k divides the odometry part of the cost by 4 and leaves the rest (ranges,
+      // priors; all >= 0), so no state costs less than a quarter of the current minimum C:
+      // nll(2k) >= C / 4 + n log(2k). When n log 2 >= 3 C / 4 the trial cannot improve the
+      // likelihood and its solve is skipped (Plaza-sized runs: most of a solve's time).
+      if (n * std::log(2.0) >= 0.75 * out.summary.final_cost) break;
+      spectral_batch::Problem trial_problem = problem;
+      spectral_batch::State trial_state = state;
       trial_problem.odometry_sigma_factor = k;
-      batch::Summary trial = batch::solve(config_, trial_problem, &trial_state);
+      spectral_batch::Summary trial = spectral_batch::solve(config_, trial_problem, &trial_state);
       const double nll = trial.final_cost + n * std::log(k);
       if (!trial.usable || !(nll < best_nll)) break;
       best_nll = nll;
@@ -324,7 +336,7 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
   return out;
 }
 
-void SpectralBatchSlam::alignRotationToOdometry(batch::State* state) {
+void SpectralBatchSlam::alignRotationToOdometry(spectral_batch::State* state) {
   // Rotation about pose 0 leaves every residual unchanged (no beacon is fixed): the gauge. It is
   // set as the spectral core sets it: the rotation that best aligns (least squares) the solved
   // positions over the first gauge_align_m of travel to the calibrated dead reckoning from the
@@ -332,7 +344,7 @@ void SpectralBatchSlam::alignRotationToOdometry(batch::State* state) {
   // than one start heading, and far better than a spectral seed fitted to biased odometry.
   std::vector<std::array<double, 3>>& poses = state->poses;
   const estimation::OdometryCalibration calibration{state->odometry_calibration[0], state->odometry_calibration[1]};
-  const std::vector<std::array<double, 3>> dr = batch::deadReckon(start_pose_, odometry_, dt_s_, calibration);
+  const std::vector<std::array<double, 3>> dr = spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, calibration);
   double dot = 0.0, cross = 0.0, travelled_m = 0.0;
   for (size_t k = 1; k < poses.size() && travelled_m <= config_.gauge_align_m; ++k) {
     travelled_m += std::hypot(odometry_[k - 1].forward_m, odometry_[k - 1].lateral_m);
@@ -364,7 +376,7 @@ double SpectralBatchSlam::scanHeadingRateBias(const std::vector<Tie>& tied) cons
   const double c = 2.385;
   auto score = [&](double bias_rad_s) {
     const std::vector<std::array<double, 3>> poses =
-        batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
+        spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
     std::map<int, std::vector<std::array<double, 2>>> positions;
     std::map<int, std::vector<double>> ranges;
     std::map<int, double> sigma;
@@ -399,12 +411,16 @@ double SpectralBatchSlam::scanHeadingRateBias(const std::vector<Tie>& tied) cons
     }
     return cost;
   };
-  // Coarse to fine over +-3 prior sigmas: 31 points, then 2 refinements of 21 points each.
+  // Coarse to fine over +-3 prior sigmas: 31 points, then refinements of 21 points at a tenth of
+  // the step, until half a step leaves at most kScanHeadingTolerance_rad of heading error at the
+  // end of the run. The batch solve estimates the bias itself; the scan only has to start it in
+  // its basin.
+  const double duration_s = 1e-6 * static_cast<double>(pose_utime_.back() - pose_utime_.front());
   const double span = 3.0 * config_.heading_rate_bias_sigma_rad_s;
   double best = 0.0, best_cost = score(0.0);
   double step = span / 15.0;
   double centre = 0.0;
-  for (int level = 0; level < 3; ++level) {
+  for (int level = 0; level < kMaxScanLevels; ++level) {
     const int half = level == 0 ? 15 : 10;
     for (int i = -half; i <= half; ++i) {
       const double b = centre + step * i;
@@ -415,6 +431,7 @@ double SpectralBatchSlam::scanHeadingRateBias(const std::vector<Tie>& tied) cons
         best = b;
       }
     }
+    if (0.5 * step * duration_s <= kScanHeadingTolerance_rad) break;
     centre = best;
     step /= 10.0;
   }
@@ -422,11 +439,11 @@ double SpectralBatchSlam::scanHeadingRateBias(const std::vector<Tie>& tied) cons
 }
 
 double SpectralBatchSlam::costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const {
-  batch::Problem problem = candidate.problem;
-  batch::State state = candidate.state;
+  spectral_batch::Problem problem = candidate.problem;
+  spectral_batch::State state = candidate.state;
   problem.odometry_sigma_factor = noise_factors[0];
   problem.range_sigma_factor = noise_factors[1];
-  return batch::solve(config_, problem, &state, true).final_cost;
+  return spectral_batch::solve(config_, problem, &state, true).final_cost;
 }
 
 void SpectralBatchSlam::solveNow(bool final) {
@@ -444,25 +461,33 @@ void SpectralBatchSlam::solveNow(bool final) {
   // errors (a 2 % turn error is degrees) rotate the whole solution about the start: on Plaza 1
   // the pinned optimum is rotated ~6 deg, metres at the far end. So with a spectral seed only the
   // start position is fixed and the rotation gauge stays where the seed put it.
+  // Final solve: the dead-reckoning seed with the heading-rate bias that best explains the
+  // ranges (a scan): a gyro drift of 0.3 deg/s curls a 30-minute path into circles no local
+  // solve unwinds. Without a spectral seed or a previous solve it is the only seed, solved once;
+  // with one, both are solved and the lower robust cost, under the same (wider) noise scales,
+  // is kept (a seed dragged by outliers loses).
+  double bias_rad_s = 0.0;
+  if (final) {
+    bias_rad_s = config_.estimate_odometry_calibration ? scanHeadingRateBias(tied) : 0.0;
+    setDiagnostic("heading_rate_bias_scan_rad_s", bias_rad_s);
+  }
+  const std::array<double, 2> scanned_calibration{1.0, bias_rad_s};
+  const bool dead_reckoning_only = final && !seeded_by_spectral_ && solved_poses_.empty();
+  if (dead_reckoning_only)
+    poses = spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
   Candidate best = solveFrom(std::move(poses), seeded_by_spectral ? &spectral_map : nullptr,
                              !seeded_by_spectral, !seeded_by_spectral_, tied, false, noise_factors_,
-                             odometry_calibration_);
+                             dead_reckoning_only ? scanned_calibration : odometry_calibration_);
   bool from_spectral = seeded_by_spectral_;
   std::array<double, 2> factors{best.problem.odometry_sigma_factor, best.problem.range_sigma_factor};
+  Candidate alone;  // final: dead reckoning with its multilaterated beacons, evaluated
   if (final) {
     // The odometry-alone hypothesis: dead reckoning, beacons multilaterated (robustly) from it.
-    // Then the solve from it (init = deadreckoning); with a spectral seed both are solved and the
-    // lower robust cost, under the same (wider) noise scales, is kept: a seed dragged by
-    // outliers loses.
-    const std::vector<std::array<double, 3>> dr = batch::deadReckon(start_pose_, odometry_, dt_s_);
-    // The dead-reckoning seed with the heading-rate bias that best explains the ranges (a scan):
-    // a gyro drift of 0.3 deg/s curls a 30-minute path into circles no local solve unwinds.
-    const double bias_rad_s = config_.estimate_odometry_calibration ? scanHeadingRateBias(tied) : 0.0;
-    setDiagnostic("heading_rate_bias_scan_rad_s", bias_rad_s);
-    const std::vector<std::array<double, 3>> dr_biased =
-        batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
-    if (from_spectral || bias_rad_s != 0.0) {
-      Candidate from_dr = solveFrom(dr_biased, nullptr, false, true, tied, false, noise_factors_, {1.0, bias_rad_s});
+    const std::vector<std::array<double, 3>> dr = spectral_batch::deadReckon(start_pose_, odometry_, dt_s_);
+    if (!dead_reckoning_only && (from_spectral || bias_rad_s != 0.0)) {
+      const std::vector<std::array<double, 3>> dr_biased =
+          spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
+      Candidate from_dr = solveFrom(dr_biased, nullptr, false, true, tied, false, noise_factors_, scanned_calibration);
       if (from_dr.summary.usable) {
         const std::array<double, 2> common{
             std::max(factors[0], from_dr.problem.odometry_sigma_factor),
@@ -480,7 +505,7 @@ void SpectralBatchSlam::solveNow(bool final) {
       }
       factors = {best.problem.odometry_sigma_factor, best.problem.range_sigma_factor};
     }
-    const Candidate alone = solveFrom(dr, nullptr, false, true, tied, true, factors, {1.0, 0.0});
+    alone = solveFrom(dr, nullptr, false, true, tied, true, factors, {1.0, 0.0});
     odometry_alone_cost_ = alone.summary.final_cost;
     best_cost_ = costWithNoise(best, factors);
     setDiagnostic("odometry_alone_cost", odometry_alone_cost_);
@@ -492,8 +517,8 @@ void SpectralBatchSlam::solveNow(bool final) {
   setDiagnostic("range_noise_scale", factors[1]);
   setDiagnostic("init_spectral", from_spectral ? 1.0 : 0.0);
   summary_ = best.summary;
-  const batch::Problem& problem = best.problem;
-  batch::State& state = best.state;
+  const spectral_batch::Problem& problem = best.problem;
+  spectral_batch::State& state = best.state;
   ++solves_;
   if (config_.verbose) {
     std::cerr << "spectral_batch: solve " << solves_ << " over " << num_poses << " poses, "
@@ -524,12 +549,11 @@ void SpectralBatchSlam::solveNow(bool final) {
   }
   if (final && best_cost_ > odometry_alone_cost_ * (1.0 + 1e-9) + 1e-9) {
     // Ranges and odometry together explain the data worse than odometry alone: a wrong basin.
-    setState(EstimatorState::kFailed);
     std::ostringstream why;
     why << "spectral_batch: the solve ended at robust cost " << best_cost_
         << ", above odometry alone (" << odometry_alone_cost_
         << "): no solution (check range_sigma_m, the odometry noise keys and loss)";
-    throw std::runtime_error(why.str());
+    return refuse(std::move(alone), why.str());
   }
   const bool any_beacon_fixed =
       std::find(problem.beacon_fixed.begin(), problem.beacon_fixed.end(), true) != problem.beacon_fixed.end();
@@ -539,14 +563,13 @@ void SpectralBatchSlam::solveNow(bool final) {
   if (final && !any_beacon_fixed && inlier_fraction < config_.min_inlier_fraction) {
     // Beacons fitted to the same ranges, most of which the solution calls outliers: below the
     // robust loss's breakdown point a wrong basin explaining another minority fits as well.
-    setState(EstimatorState::kFailed);
     std::ostringstream why;
     why << "spectral_batch: the solve explains only " << summary_.range_inliers << " of "
         << problem.ranges.size() << " ranges as inliers, under min_inlier_fraction "
         << config_.min_inlier_fraction
         << " with no surveyed beacon: no solution (survey the beacons with anchor = beacons, or check "
            "range_sigma_m and loss)";
-    throw std::runtime_error(why.str());
+    return refuse(std::move(alone), why.str());
   }
   if (!summary_.converged && config_.verbose)
     std::cerr << "spectral_batch: the last stage stopped at max_iterations (" << config_.max_iterations
@@ -565,6 +588,33 @@ void SpectralBatchSlam::solveNow(bool final) {
   setDiagnostic("range_offset_m", calibration_[1]);
   setDiagnostic("odometry_distance_scale", odometry_calibration_[0]);
   setDiagnostic("heading_rate_bias_rad_s", odometry_calibration_[1]);
+  current_pose_ = solved_poses_.back();
+  last_solve_utime_ = pose_utime_.back();
+  new_solution_ = true;
+  emitMap(map());
+}
+
+void SpectralBatchSlam::refuse(Candidate alone, const std::string& why) {
+  if (!config_.fallback_deadreckoning) {
+    setState(EstimatorState::kFailed);
+    throw std::runtime_error(why);
+  }
+  // The data do not fix the solution (see the checks in solveNow), but the odometry alone is
+  // still an answer with a known error growth: dead reckoning from the start pose, uncalibrated
+  // (nothing the ranges say is trusted), with the beacons multilaterated from it. Published as
+  // the solution with the reason on stderr and in STATUS (dead_reckoning_fallback = 1).
+  std::cerr << why << "; publishing dead reckoning instead (fallback_deadreckoning = true)\n";
+  setDiagnostic("dead_reckoning_fallback", 1.0);
+  solved_poses_ = std::move(alone.state.poses);
+  solved_beacons_.clear();
+  beacon_offsets_m_.clear();
+  for (const auto& [id, index] : alone.index_of) solved_beacons_[id] = alone.state.beacons[index];
+  calibration_ = {1.0, 0.0};
+  odometry_calibration_ = {1.0, 0.0};
+  setDiagnostic("range_scale", 1.0);
+  setDiagnostic("range_offset_m", 0.0);
+  setDiagnostic("odometry_distance_scale", 1.0);
+  setDiagnostic("heading_rate_bias_rad_s", 0.0);
   current_pose_ = solved_poses_.back();
   last_solve_utime_ = pose_utime_.back();
   new_solution_ = true;
@@ -590,7 +640,7 @@ Path SpectralBatchSlam::currentPath() const {
   for (size_t k = 0; k < pose_utime_.size(); ++k) {
     if (k > 0)
       pose = k < solved_poses_.size() ? solved_poses_[k]
-                                      : batch::propagate(pose, odometry_[k - 1], dt_s_[k - 1], odometryCalibration());
+                                      : spectral_batch::propagate(pose, odometry_[k - 1], dt_s_[k - 1], odometryCalibration());
     path.push_back(toPose(pose_utime_[k], pose));
   }
   return path;
@@ -604,4 +654,5 @@ bool SpectralBatchSlam::trajectory(bool force, Path* path) {
   return true;
 }
 
+}  // namespace spectral_batch
 }  // namespace roam

@@ -41,6 +41,7 @@
 #include "roam/estimator.hpp"
 
 namespace roam {
+namespace spectral_batch {
 
 class SpectralBatchSlam : public Estimator {
  public:
@@ -56,7 +57,7 @@ class SpectralBatchSlam : public Estimator {
   bool trajectory(bool force, Path* path) override;
 
   // The latest solve (all zero before the first).
-  const batch::Summary& lastSummary() const { return summary_; }
+  const spectral_batch::Summary& lastSummary() const { return summary_; }
   double rangeScale() const { return calibration_[0]; }
   double rangeOffset_m() const { return calibration_[1]; }
   estimation::OdometryCalibration odometryCalibration() const {
@@ -75,9 +76,9 @@ class SpectralBatchSlam : public Estimator {
     const Range* range;
   };
   struct Candidate {
-    batch::Problem problem;
-    batch::State state;
-    batch::Summary summary;
+    spectral_batch::Problem problem;
+    spectral_batch::State state;
+    spectral_batch::Summary summary;
     std::map<int, int> index_of;  // beacon id -> beacon block
   };
   std::vector<Tie> tieRanges(bool final) const;
@@ -94,10 +95,13 @@ class SpectralBatchSlam : public Estimator {
   double scanHeadingRateBias(const std::vector<Tie>& tied) const;
   // anchor = start_pose: rotates the solution about pose 0 onto the calibrated odometry of the
   // first gauge_align_m of travel (the rotation gauge).
-  void alignRotationToOdometry(batch::State* state);
+  void alignRotationToOdometry(spectral_batch::State* state);
   // The candidate's cost (final loss) with these odometry and range noise scales.
   double costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const;
   void solveNow(bool final);
+  // The final solve is not trusted (why): fail (fallback_deadreckoning = false), or publish dead
+  // reckoning (alone: its poses and multilaterated beacons) with the reason in STATUS.
+  void refuse(Candidate alone, const std::string& why);
   std::vector<std::array<double, 3>> initialPoses(bool final);
   Path currentPath() const;
 
@@ -128,7 +132,8 @@ class SpectralBatchSlam : public Estimator {
   double odometry_alone_cost_ = 0.0;
   double best_cost_ = 0.0;
   std::array<double, 2> noise_factors_{1.0, 1.0};  // odometry, range: the latest estimate
-  batch::Summary summary_;
+  spectral_batch::Summary summary_;
 };
 
+}  // namespace spectral_batch
 }  // namespace roam

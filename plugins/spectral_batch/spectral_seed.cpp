@@ -7,7 +7,7 @@
 #endif
 
 namespace roam {
-namespace batch {
+namespace spectral_batch {
 
 #ifdef ROAM_HAVE_SPECTRAL
 
@@ -31,5 +31,5 @@ std::unique_ptr<Estimator> makeSpectralSeed(const SpectralBatchConfig& /*config*
 
 #endif
 
-}  // namespace batch
+}  // namespace spectral_batch
 }  // namespace roam

@@ -9,7 +9,7 @@
 #include "roam/estimator.hpp"
 
 namespace roam {
-namespace batch {
+namespace spectral_batch {
 
 // True if this build links the spectral core.
 bool spectralSeedAvailable();
@@ -18,5 +18,5 @@ bool spectralSeedAvailable();
 // Throws std::invalid_argument if the spectral core is not built in.
 std::unique_ptr<Estimator> makeSpectralSeed(const SpectralBatchConfig& config);
 
-}  // namespace batch
+}  // namespace spectral_batch
 }  // namespace roam

@@ -165,7 +165,7 @@ void BM_Spectral(benchmark::State& state) {
 void BM_Batch(benchmark::State& state) {
   const int steps = static_cast<int>(state.range(0)), beacons = static_cast<int>(state.range(1));
   const roam::Dataset& data = world(steps, beacons);
-  roam::SpectralBatchConfig config;  // spectral seed, Ceres, range scale and offset: defaults,
+  roam::spectral_batch::SpectralBatchConfig config;  // spectral seed, Ceres, range scale and offset: defaults,
   config.anchor = "beacons";         // but surveyed beacons fix the frame, as in BM_Spectral
   const double input_rss_mb = statusKb("VmRSS") / 1024.0;
   resetPeakRss();
@@ -173,7 +173,7 @@ void BM_Batch(benchmark::State& state) {
   double iterations = 0.0;
   const CpuSplit before = CpuSplit::now();
   for (auto _ : state) {
-    roam::SpectralBatchSlam slam(config);
+    roam::spectral_batch::SpectralBatchSlam slam(config);
     roam::test::feed(data, slam);
     slam.trajectory(true, &path);
     iterations = slam.diagnostics().at("solver_iterations");

@@ -12,7 +12,7 @@
 #include "batch_residuals.hpp"
 
 namespace roam {
-namespace batch {
+namespace spectral_batch {
 namespace {
 
 constexpr double kValueTolerance = 1e-12;
@@ -155,5 +155,5 @@ TEST(BatchResiduals, JacobiansMatchNumericDifferences) {
 }
 
 }  // namespace
-}  // namespace batch
+}  // namespace spectral_batch
 }  // namespace roam

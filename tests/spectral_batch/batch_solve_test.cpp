@@ -1,4 +1,4 @@
-// batch::solve on noise-free synthetic runs: exact recovery from a perturbed start.
+// spectral_batch::solve on noise-free synthetic runs: exact recovery from a perturbed start.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,7 +9,7 @@
 #include "sim.hpp"
 
 namespace roam {
-namespace batch {
+namespace spectral_batch {
 namespace {
 
 // Noise-free data has its optimum (zero cost) at the truth: the solve must land there.
@@ -166,5 +166,5 @@ TEST(BatchSolve, RejectsInconsistentProblems) {
 }
 
 }  // namespace
-}  // namespace batch
+}  // namespace spectral_batch
 }  // namespace roam

@@ -32,11 +32,11 @@ const roam::Dataset& plazaSized() {
 
 void solve(benchmark::State& state, const char* init) {
   const roam::Dataset& data = plazaSized();
-  roam::SpectralBatchConfig config;
+  roam::spectral_batch::SpectralBatchConfig config;
   config.init = init;
   double error_m = 0.0;
   for (auto _ : state) {
-    roam::SpectralBatchSlam slam(config);
+    roam::spectral_batch::SpectralBatchSlam slam(config);
     roam::test::feed(data, slam);
     roam::Path path;
     slam.trajectory(true, &path);
@@ -53,7 +53,7 @@ void BM_BatchFromDeadReckoning(benchmark::State& state) { solve(state, "deadreck
 BENCHMARK(BM_BatchFromDeadReckoning)->Unit(benchmark::kMillisecond);
 
 void BM_SpectralPlusBatch(benchmark::State& state) {
-  if (!roam::batch::spectralSeedAvailable()) {
+  if (!roam::spectral_batch::spectralSeedAvailable()) {
     state.SkipWithError("built without the spectral core");
     for (auto _ : state) {
     }

@@ -14,6 +14,7 @@
 #include "spectral_seed.hpp"
 
 namespace roam {
+namespace spectral_batch {
 namespace {
 
 // A noisy 2-minute lawn mower with 4 beacons, every pose ranged to every beacon.
@@ -200,7 +201,7 @@ TEST(SpectralBatchSlam, BadConfigNamesTheKey) {
 TEST(SpectralBatchSlam, SpectralInitNeedsTheSpectralCore) {
   SpectralBatchConfig config;
   config.init = "spectral";
-  if (batch::spectralSeedAvailable()) {
+  if (spectral_batch::spectralSeedAvailable()) {
     EXPECT_NO_THROW(SpectralBatchSlam{config});
   } else {
     EXPECT_THROW(SpectralBatchSlam{config}, std::invalid_argument);
@@ -208,9 +209,11 @@ TEST(SpectralBatchSlam, SpectralInitNeedsTheSpectralCore) {
 }
 
 }  // namespace
+}  // namespace spectral_batch
 }  // namespace roam
 
 namespace roam {
+namespace spectral_batch {
 namespace {
 
 // Mean error of the dead reckoning of a run's own odometry from its start pose.
@@ -287,31 +290,43 @@ TEST(SpectralBatchSlam, HeavyOutliersInBothAnchors) {
   }
 }
 
-TEST(SpectralBatchSlam, SparseAuvLikeRunWithSurveyedBeacons) {
+TEST(SpectralBatchSlam, SparseAuvLikeRunBothAnchors) {
   // Steps of 4.5 m every 3 s, one range every ~3 s to beacons 200 m out, 45 % of them off by
   // -150..100 m, stated sigma 0.75 m for 2 m of noise, odometry 15 % noisy and 3 % short.
   const Dataset data = sim::simulate(sim::auvLikeWorld(303, 300));
   const double dead_reckoning_m = deadReckoningError_m(data);
   for (const char* anchor : {"start_pose", "beacons"}) {
-    SpectralBatchConfig config;
-    config.init = "deadreckoning";
-    config.anchor = anchor;
-    SpectralBatchSlam slam(config);
-    if (std::string(anchor) == "start_pose") {
-      // Known limit (README): with the start pose as the only anchor the solve lands ~1.5 x dead
-      // reckoning, explaining under half the ranges: the estimator must refuse, not publish it.
-      EXPECT_THROW(test::feed(data, slam), std::runtime_error);
-      EXPECT_EQ(slam.state(), EstimatorState::kFailed);
-      continue;
+    for (bool fallback : {true, false}) {
+      SpectralBatchConfig config;
+      config.init = "deadreckoning";
+      config.anchor = anchor;
+      config.fallback_deadreckoning = fallback;
+      SpectralBatchSlam slam(config);
+      if (std::string(anchor) == "start_pose" && !fallback) {
+        // With the start pose as the only anchor the solve explains under half the ranges (a
+        // wrong basin cannot be told apart): without the fallback the estimator must refuse.
+        EXPECT_THROW(test::feed(data, slam), std::runtime_error);
+        EXPECT_EQ(slam.state(), EstimatorState::kFailed);
+        continue;
+      }
+      if (std::string(anchor) == "beacons" && !fallback) continue;
+      test::feed(data, slam);
+      EXPECT_EQ(slam.state(), EstimatorState::kFinished);
+      Path path;
+      ASSERT_TRUE(slam.trajectory(true, &path));
+      const double error_m = test::meanError_m(path, data.ground_truth);
+      std::printf("AUV-like, anchor %s: %.3f m (dead reckoning %.3f m)\n", anchor, error_m, dead_reckoning_m);
+      if (std::string(anchor) == "beacons") {
+        EXPECT_LT(error_m, 0.5 * dead_reckoning_m);
+      } else {
+        // The refused solve is replaced by dead reckoning itself, flagged in STATUS.
+        EXPECT_EQ(slam.diagnostics().at("dead_reckoning_fallback"), 1.0);
+        EXPECT_NEAR(error_m, dead_reckoning_m, 1e-6 * dead_reckoning_m);
+      }
     }
-    test::feed(data, slam);
-    Path path;
-    ASSERT_TRUE(slam.trajectory(true, &path));
-    const double error_m = test::meanError_m(path, data.ground_truth);
-    std::printf("AUV-like, anchor %s: %.3f m (dead reckoning %.3f m)\n", anchor, error_m, dead_reckoning_m);
-    EXPECT_LT(error_m, 0.5 * dead_reckoning_m);
   }
 }
 
 }  // namespace
+}  // namespace spectral_batch
 }  // namespace roam
