@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "roam/map_t.hpp"
 #include "roam/pose_t.hpp"
 
 namespace roam {
@@ -44,6 +45,25 @@ inline roam::pose_t fixturePose(int64_t utime, double x, double y, const std::st
   p.y = y;
   for (double& c : p.covariance) c = NAN;
   return p;
+}
+
+// A map_t of beacons {id, x, y} with unknown (NaN) covariances, at utime 0 with no estimator.
+struct FixtureBeacon {
+  int32_t id;
+  double x, y;
+};
+inline roam::map_t fixtureMap(const std::vector<FixtureBeacon>& beacons) {
+  roam::map_t map{};
+  map.num_beacons = static_cast<int32_t>(beacons.size());
+  for (const FixtureBeacon& in : beacons) {
+    roam::beacon_t out{};
+    out.id = in.id;
+    out.x = in.x;
+    out.y = in.y;
+    for (double& c : out.covariance) c = NAN;
+    map.beacons.push_back(out);
+  }
+  return map;
 }
 
 }  // namespace test

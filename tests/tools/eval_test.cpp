@@ -34,15 +34,7 @@ using roam::test::fixturePose;
 std::string writeFixture(const roam_test::ScratchDir& dir) {
   const std::string path = dir.file("fixture.lcmlog");
   FixtureLog log(path);
-  roam::map_t beacons{};
-  beacons.num_beacons = 2;
-  beacons.beacons.resize(2);
-  beacons.beacons[0].id = 1;
-  beacons.beacons[0].x = 10;
-  beacons.beacons[0].y = 10;
-  beacons.beacons[1].id = 2;
-  beacons.beacons[1].x = -10;
-  beacons.beacons[1].y = 5;
+  const roam::map_t beacons = roam::test::fixtureMap({{1, 10, 10}, {2, -10, 5}});
   log.write("INITIAL_POSE", 0, fixturePose(0, 0, 0));
   log.write("BEACONS", 0, beacons);
   roam::trajectory_t smooth{};
