@@ -1,6 +1,10 @@
 #include "roam/messages.hpp"
 
+#include <algorithm>
 #include <cctype>
+#include <cstddef>
+#include <iterator>
+#include <limits>
 #include <stdexcept>
 
 namespace roam {
@@ -17,132 +21,169 @@ std::string outputChannel(const std::string& prefix, const std::string& estimato
   return channel + upperCase(estimator_name);
 }
 
-roam::odometry_t toMessage(const Odometry& odometry) {
-  roam::odometry_t message;
-  message.utime = odometry.utime;
-  message.delta_distance = odometry.forward_m;
-  message.delta_heading = odometry.delta_heading_rad;
-  message.delta_lateral = odometry.lateral_m;
-  for (int i = 0; i < 9; ++i) message.covariance[i] = odometry.covariance[i];
-  return message;
+namespace {
+
+// One field from one side to the other: scalars are assigned, fixed-size arrays copied element
+// by element (their lengths checked at compile time), and LCM's booleans (int8_t) and the ABI's
+// flags (int32_t) kept to 0 or 1, as plugin_abi.h promises.
+template <typename To, typename From>
+void assign(To& to, const From& from) {
+  to = from;
+}
+template <typename T, std::size_t N>
+void assign(T (&to)[N], const T (&from)[N]) {
+  std::copy(from, from + N, to);
+}
+void assign(int32_t& to, const int8_t& from) { to = from != 0 ? 1 : 0; }
+void assign(int8_t& to, const int32_t& from) { to = from != 0 ? 1 : 0; }
+
+// The two directions the field lists below are run in.
+struct IntoC {
+  template <typename M, typename C>
+  void operator()(const M& message_field, C& c_field) const { assign(c_field, message_field); }
+};
+struct IntoMessage {
+  template <typename M, typename C>
+  void operator()(M& message_field, const C& c_field) const { assign(message_field, c_field); }
+};
+
+// The field lists: each LCM field beside its plugin_abi.h field, written once for both
+// directions. `Message` and `C` are const on the side read from.
+struct OdometryFields {
+  template <typename Message, typename C, typename Copy>
+  static void visit(Message& m, C& c, Copy copy) {
+    copy(m.utime, c.utime);
+    copy(m.delta_distance, c.forward_m);
+    copy(m.delta_lateral, c.lateral_m);
+    copy(m.delta_heading, c.delta_heading_rad);
+    copy(m.covariance, c.covariance);
+  }
+};
+
+struct RangeFields {
+  template <typename Message, typename C, typename Copy>
+  static void visit(Message& m, C& c, Copy copy) {
+    copy(m.utime, c.utime);
+    copy(m.beacon_id, c.beacon_id);
+    copy(m.range, c.range_m);
+    copy(m.sigma, c.sigma_m);
+    copy(m.has_bearing, c.has_bearing);
+    copy(m.bearing, c.bearing_rad);
+  }
+};
+
+struct PoseFields {
+  template <typename Message, typename C, typename Copy>
+  static void visit(Message& m, C& c, Copy copy) {
+    copy(m.utime, c.utime);
+    copy(m.x, c.x_m);
+    copy(m.y, c.y_m);
+    copy(m.heading, c.heading_rad);
+    copy(m.covariance, c.covariance);
+  }
+};
+
+struct BeaconFields {
+  template <typename Message, typename C, typename Copy>
+  static void visit(Message& m, C& c, Copy copy) {
+    copy(m.id, c.id);
+    copy(m.x, c.x_m);
+    copy(m.y, c.y_m);
+    copy(m.covariance, c.covariance);
+  }
+};
+
+// trajectory_t holds a path as parallel arrays: each array beside the roam_pose field it holds.
+struct TrajectoryColumns {
+  template <typename Message, typename Column>
+  static void visit(Message& m, Column column) {
+    column(m.utimes, &roam_pose::utime);
+    column(m.x, &roam_pose::x_m);
+    column(m.y, &roam_pose::y_m);
+    column(m.heading, &roam_pose::heading_rad);
+  }
+};
+
+template <typename C, typename Fields, typename Message>
+C intoC(const Message& message) {
+  C out{};
+  Fields::visit(message, out, IntoC{});
+  return out;
 }
 
-Odometry fromMessage(const roam::odometry_t& message) {
-  Odometry odometry;
-  odometry.utime = message.utime;
-  odometry.forward_m = message.delta_distance;
-  odometry.delta_heading_rad = message.delta_heading;
-  odometry.lateral_m = message.delta_lateral;
-  for (int i = 0; i < 9; ++i) odometry.covariance[i] = message.covariance[i];
-  return odometry;
+template <typename Message, typename Fields, typename C>
+Message intoMessage(const C& c) {
+  Message out;
+  Fields::visit(out, c, IntoMessage{});
+  return out;
 }
 
-roam::range_t toMessage(const Range& range) {
-  roam::range_t message;
-  message.utime = range.utime;
-  message.beacon_id = range.beacon_id;
-  message.range = range.range_m;
-  message.sigma = range.sigma_m;
-  message.has_bearing = range.has_bearing;
-  message.bearing = range.bearing_rad;
-  return message;
+}  // namespace
+
+roam_odometry fromMessage(const roam::odometry_t& message) {
+  return intoC<roam_odometry, OdometryFields>(message);
 }
 
-Range fromMessage(const roam::range_t& message) {
-  Range range;
-  range.utime = message.utime;
-  range.beacon_id = message.beacon_id;
-  range.range_m = message.range;
-  range.sigma_m = message.sigma;
-  range.has_bearing = message.has_bearing;
-  range.bearing_rad = message.bearing;
-  return range;
+roam::odometry_t toMessage(const roam_odometry& odometry) {
+  return intoMessage<roam::odometry_t, OdometryFields>(odometry);
 }
 
-roam::pose_t toMessage(const Pose& pose, const std::string& estimator) {
-  roam::pose_t message;
-  message.utime = pose.utime;
+roam_range fromMessage(const roam::range_t& message) { return intoC<roam_range, RangeFields>(message); }
+
+roam::range_t toMessage(const roam_range& range) { return intoMessage<roam::range_t, RangeFields>(range); }
+
+roam_pose fromMessage(const roam::pose_t& message) { return intoC<roam_pose, PoseFields>(message); }
+
+roam::pose_t toMessage(const roam_pose& pose, const std::string& estimator) {
+  roam::pose_t message = intoMessage<roam::pose_t, PoseFields>(pose);
   message.estimator = estimator;
-  message.x = pose.x_m;
-  message.y = pose.y_m;
-  message.heading = pose.heading_rad;
-  for (int i = 0; i < 9; ++i) message.covariance[i] = pose.covariance[i];
   return message;
 }
 
-Pose fromMessage(const roam::pose_t& message) {
-  Pose pose;
-  pose.utime = message.utime;
-  pose.x_m = message.x;
-  pose.y_m = message.y;
-  pose.heading_rad = message.heading;
-  for (int i = 0; i < 9; ++i) pose.covariance[i] = message.covariance[i];
-  return pose;
+std::vector<roam_beacon> fromMessage(const roam::map_t& message) {
+  std::vector<roam_beacon> beacons;
+  beacons.reserve(message.beacons.size());
+  for (const roam::beacon_t& beacon : message.beacons) beacons.push_back(intoC<roam_beacon, BeaconFields>(beacon));
+  return beacons;
 }
 
-roam::map_t toMessage(const Map& map, int64_t utime, const std::string& estimator) {
+roam::map_t toMessage(const std::vector<roam_beacon>& beacons, int64_t utime, const std::string& estimator) {
   roam::map_t message;
   message.utime = utime;
   message.estimator = estimator;
-  message.num_beacons = static_cast<int32_t>(map.size());
-  message.beacons.reserve(map.size());
-  for (const Beacon& beacon : map) {
-    roam::beacon_t out;
-    out.id = beacon.id;
-    out.x = beacon.x_m;
-    out.y = beacon.y_m;
-    for (int i = 0; i < 4; ++i) out.covariance[i] = beacon.covariance[i];
-    message.beacons.push_back(out);
-  }
+  message.num_beacons = static_cast<int32_t>(beacons.size());
+  message.beacons.reserve(beacons.size());
+  for (const roam_beacon& beacon : beacons) message.beacons.push_back(intoMessage<roam::beacon_t, BeaconFields>(beacon));
   return message;
 }
 
-Map fromMessage(const roam::map_t& message) {
-  Map map;
-  map.reserve(message.beacons.size());
-  for (const roam::beacon_t& in : message.beacons) {
-    Beacon beacon;
-    beacon.id = in.id;
-    beacon.x_m = in.x;
-    beacon.y_m = in.y;
-    for (int i = 0; i < 4; ++i) beacon.covariance[i] = in.covariance[i];
-    map.push_back(beacon);
-  }
-  return map;
+std::vector<roam_pose> fromMessage(const roam::trajectory_t& message) {
+  const std::size_t n = message.utimes.size();
+  TrajectoryColumns::visit(message, [&](const auto& column, auto) {
+    if (column.size() != n) {
+      throw std::runtime_error("trajectory_t from '" + message.estimator +
+                               "': parallel arrays of different lengths");
+    }
+  });
+  roam_pose blank{};
+  std::fill(std::begin(blank.covariance), std::end(blank.covariance), std::numeric_limits<double>::quiet_NaN());
+  std::vector<roam_pose> poses(n, blank);
+  TrajectoryColumns::visit(message, [&](const auto& column, auto field) {
+    for (std::size_t i = 0; i < n; ++i) poses[i].*field = column[i];
+  });
+  return poses;
 }
 
-roam::trajectory_t toMessage(const Path& path, int64_t utime, const std::string& estimator) {
+roam::trajectory_t toMessage(const std::vector<roam_pose>& poses, int64_t utime, const std::string& estimator) {
   roam::trajectory_t message;
   message.utime = utime;
   message.estimator = estimator;
-  message.num_poses = static_cast<int32_t>(path.size());
-  message.utimes.reserve(path.size());
-  message.x.reserve(path.size());
-  message.y.reserve(path.size());
-  message.heading.reserve(path.size());
-  for (const Pose& pose : path) {
-    message.utimes.push_back(pose.utime);
-    message.x.push_back(pose.x_m);
-    message.y.push_back(pose.y_m);
-    message.heading.push_back(pose.heading_rad);
-  }
+  message.num_poses = static_cast<int32_t>(poses.size());
+  TrajectoryColumns::visit(message, [&](auto& column, auto field) {
+    column.reserve(poses.size());
+    for (const roam_pose& pose : poses) column.push_back(pose.*field);
+  });
   return message;
-}
-
-Path fromMessage(const roam::trajectory_t& message) {
-  const size_t n = message.utimes.size();
-  if (message.x.size() != n || message.y.size() != n || message.heading.size() != n) {
-    throw std::runtime_error("trajectory_t from '" + message.estimator +
-                             "': parallel arrays of different lengths");
-  }
-  Path path(n);
-  for (size_t i = 0; i < n; ++i) {
-    path[i].utime = message.utimes[i];
-    path[i].x_m = message.x[i];
-    path[i].y_m = message.y[i];
-    path[i].heading_rad = message.heading[i];
-  }
-  return path;
 }
 
 }  // namespace roam

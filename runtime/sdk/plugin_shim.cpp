@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 
 namespace roam {
 namespace shim {
@@ -30,85 +31,71 @@ int guarded(roam_handle h, Body&& body) {
 
 }  // namespace
 
-roam_pose toC(const Pose& pose) {
-  roam_pose out{};
-  out.utime = pose.utime;
-  out.x_m = pose.x_m;
-  out.y_m = pose.y_m;
-  out.heading_rad = pose.heading_rad;
-  for (int i = 0; i < 9; ++i) out.covariance[i] = pose.covariance[i];
+namespace {
+
+// A covariance between a C array and a std::array of the same size.
+template <typename To, typename From>
+void copyCovariance(To& to, const From& from) {
+  static_assert(sizeof(To) == sizeof(From), "covariances of different sizes");
+  std::copy(std::begin(from), std::end(from), std::begin(to));
+}
+
+// The field lists: the C structs of plugin_abi.h and the structs of roam/types.hpp share their
+// field names, so each list is written once and serves both directions.
+template <typename To, typename From>
+To copyPose(const From& in) {
+  To out{};
+  out.utime = in.utime;
+  out.x_m = in.x_m;
+  out.y_m = in.y_m;
+  out.heading_rad = in.heading_rad;
+  copyCovariance(out.covariance, in.covariance);
   return out;
 }
 
-Pose fromC(const roam_pose& pose) {
-  Pose out;
-  out.utime = pose.utime;
-  out.x_m = pose.x_m;
-  out.y_m = pose.y_m;
-  out.heading_rad = pose.heading_rad;
-  for (int i = 0; i < 9; ++i) out.covariance[i] = pose.covariance[i];
+template <typename To, typename From>
+To copyBeacon(const From& in) {
+  To out{};
+  out.id = in.id;
+  out.x_m = in.x_m;
+  out.y_m = in.y_m;
+  copyCovariance(out.covariance, in.covariance);
   return out;
 }
 
-roam_beacon toC(const Beacon& beacon) {
-  roam_beacon out{};
-  out.id = beacon.id;
-  out.x_m = beacon.x_m;
-  out.y_m = beacon.y_m;
-  for (int i = 0; i < 4; ++i) out.covariance[i] = beacon.covariance[i];
+template <typename To, typename From>
+To copyOdometry(const From& in) {
+  To out{};
+  out.utime = in.utime;
+  out.forward_m = in.forward_m;
+  out.lateral_m = in.lateral_m;
+  out.delta_heading_rad = in.delta_heading_rad;
+  copyCovariance(out.covariance, in.covariance);
   return out;
 }
 
-Beacon fromC(const roam_beacon& beacon) {
-  Beacon out;
-  out.id = beacon.id;
-  out.x_m = beacon.x_m;
-  out.y_m = beacon.y_m;
-  for (int i = 0; i < 4; ++i) out.covariance[i] = beacon.covariance[i];
+template <typename To, typename From>
+To copyRange(const From& in) {
+  To out{};
+  out.utime = in.utime;
+  out.beacon_id = in.beacon_id;
+  out.range_m = in.range_m;
+  out.sigma_m = in.sigma_m;
+  out.has_bearing = in.has_bearing != 0;  // bool <-> the ABI's 0 or 1
+  out.bearing_rad = in.bearing_rad;
   return out;
 }
 
-roam_odometry toC(const Odometry& odometry) {
-  roam_odometry out{};
-  out.utime = odometry.utime;
-  out.forward_m = odometry.forward_m;
-  out.lateral_m = odometry.lateral_m;
-  out.delta_heading_rad = odometry.delta_heading_rad;
-  for (int i = 0; i < 9; ++i) out.covariance[i] = odometry.covariance[i];
-  return out;
-}
+}  // namespace
 
-Odometry fromC(const roam_odometry& odometry) {
-  Odometry out;
-  out.utime = odometry.utime;
-  out.forward_m = odometry.forward_m;
-  out.lateral_m = odometry.lateral_m;
-  out.delta_heading_rad = odometry.delta_heading_rad;
-  for (int i = 0; i < 9; ++i) out.covariance[i] = odometry.covariance[i];
-  return out;
-}
-
-roam_range toC(const Range& range) {
-  roam_range out{};
-  out.utime = range.utime;
-  out.beacon_id = range.beacon_id;
-  out.has_bearing = range.has_bearing ? 1 : 0;
-  out.range_m = range.range_m;
-  out.sigma_m = range.sigma_m;
-  out.bearing_rad = range.bearing_rad;
-  return out;
-}
-
-Range fromC(const roam_range& range) {
-  Range out;
-  out.utime = range.utime;
-  out.beacon_id = range.beacon_id;
-  out.range_m = range.range_m;
-  out.sigma_m = range.sigma_m;
-  out.has_bearing = range.has_bearing != 0;
-  out.bearing_rad = range.bearing_rad;
-  return out;
-}
+roam_pose toC(const Pose& pose) { return copyPose<roam_pose>(pose); }
+Pose fromC(const roam_pose& pose) { return copyPose<Pose>(pose); }
+roam_beacon toC(const Beacon& beacon) { return copyBeacon<roam_beacon>(beacon); }
+Beacon fromC(const roam_beacon& beacon) { return copyBeacon<Beacon>(beacon); }
+roam_odometry toC(const Odometry& odometry) { return copyOdometry<roam_odometry>(odometry); }
+Odometry fromC(const roam_odometry& odometry) { return copyOdometry<Odometry>(odometry); }
+roam_range toC(const Range& range) { return copyRange<roam_range>(range); }
+Range fromC(const roam_range& range) { return copyRange<Range>(range); }
 
 std::string checkOdometry(const roam_odometry& odometry) {
   if (!std::isfinite(odometry.forward_m) || !std::isfinite(odometry.lateral_m) ||
@@ -250,8 +237,7 @@ int finish(roam_handle h) {
 
 int pollPoses(roam_handle h, const roam_pose** poses, int32_t* num_poses) {
   return guarded(h, [&](Instance& self) {
-    self.poses.clear();
-    for (const Pose& pose : self.estimator->takePoses()) self.poses.push_back(toC(pose));
+    self.poses = toC(self.estimator->takePoses());
     *poses = self.poses.data();
     *num_poses = static_cast<int32_t>(self.poses.size());
   });
@@ -261,8 +247,7 @@ int pollMap(roam_handle h, int32_t* changed, const roam_beacon** beacons, int32_
   return guarded(h, [&](Instance& self) {
     Map map;
     *changed = self.estimator->takeMap(&map) ? 1 : 0;
-    self.beacons.clear();
-    for (const Beacon& beacon : map) self.beacons.push_back(toC(beacon));
+    self.beacons = toC(map);
     *beacons = self.beacons.data();
     *num_beacons = static_cast<int32_t>(self.beacons.size());
   });
@@ -273,8 +258,7 @@ int pollTrajectory(roam_handle h, int32_t force, int32_t* available, const roam_
   return guarded(h, [&](Instance& self) {
     Path path;
     *available = self.estimator->trajectory(force != 0, &path) ? 1 : 0;
-    self.path.clear();
-    for (const Pose& pose : path) self.path.push_back(toC(pose));
+    self.path = toC(path);
     *poses = self.path.data();
     *num_poses = static_cast<int32_t>(self.path.size());
   });

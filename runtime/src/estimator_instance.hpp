@@ -24,18 +24,39 @@ struct CallLimits {
   double max_finish_s = 0.0;  // the end of input: finish and the final outputs
 };
 
+// What every kind of instance keeps about its estimator: whether and why it failed, and the time
+// spent inside the plugin.
+struct InstanceRecord {
+  bool failed = false;
+  std::string error;  // the first failure's
+  double cpu_total_s = 0.0, cpu_last_s = 0.0;
+  double wall_last_s = 0.0;  // wall-clock seconds of the last update (input and outputs)
+
+  void fail(const std::string& why) {
+    if (failed) return;
+    failed = true;
+    error = why;
+  }
+};
+
 class EstimatorInstance {
  public:
   virtual ~EstimatorInstance() = default;
 
   virtual const std::string& name() const = 0;
   virtual const std::string& pluginName() const = 0;
-  virtual bool failed() = 0;
-  virtual const std::string& error() = 0;
-  virtual double cpuTotalSeconds() = 0;
-  virtual double cpuLastSeconds() = 0;
-  // Wall-clock seconds of the last update (input and outputs), for live mode's backlog report.
-  virtual double wallLastSeconds() = 0;
+  // The record, once every answer still in flight (on a worker thread, from a child process)
+  // has arrived.
+  virtual InstanceRecord& record() = 0;
+  bool failed() { return record().failed; }
+  const std::string& error() { return record().error; }
+  double cpuTotalSeconds() { return record().cpu_total_s; }
+  double cpuLastSeconds() { return record().cpu_last_s; }
+  // For live mode's backlog report.
+  double wallLastSeconds() { return record().wall_last_s; }
+  // Marks the instance failed from outside (e.g. the host caught something); the first failure
+  // is the one kept.
+  void markFailed(const std::string& error) { record().fail(error); }
   virtual KeyValues effectiveConfig() = 0;
 
   virtual bool setInitialPose(const roam_pose& pose) = 0;
@@ -57,8 +78,6 @@ class EstimatorInstance {
     std::vector<double> values;
   };
   virtual Status status() = 0;
-  // Marks the instance failed from outside (e.g. the host caught something).
-  virtual void markFailed(const std::string& error) = 0;
 };
 
 }  // namespace runtime

@@ -6,7 +6,6 @@
 
 #include "roam/estimator_status_t.hpp"
 #include "roam/messages.hpp"
-#include "roam/plugin_shim.hpp"
 #include "roam/safe_decode.hpp"
 
 namespace roam {
@@ -105,7 +104,7 @@ bool Host::feedOdometry(const void* data, int size) {
     ++counters_.odometry_gaps;
   }
   last_odometry_utime_ = message.utime;
-  const roam_odometry odometry = shim::toC(fromMessage(message));
+  const roam_odometry odometry = fromMessage(message);
   for (auto& slot : estimators_) slot.instance->addOdometry(odometry);
   return true;
 }
@@ -119,7 +118,7 @@ bool Host::feedRange(const void* data, int size) {
   }
   if (!acceptInOrder(config_.range_channel, message.utime, data, size)) return false;
   ++counters_.ranges;
-  const roam_range range = shim::toC(fromMessage(message));
+  const roam_range range = fromMessage(message);
   for (auto& slot : estimators_) slot.instance->addRange(range);
   return true;
 }
@@ -132,7 +131,7 @@ void Host::feedInitialPose(const void* data, int size) {
     return;
   }
   if (!acceptInOrder(config_.initial_pose_channel, message.utime, data, size)) return;
-  const roam_pose pose = shim::toC(fromMessage(message));
+  const roam_pose pose = fromMessage(message);
   for (auto& slot : estimators_) slot.instance->setInitialPose(pose);
 }
 
@@ -144,8 +143,7 @@ void Host::feedBeacons(const void* data, int size) {
     return;
   }
   if (!acceptInOrder(config_.beacons_channel, message.utime, data, size)) return;
-  std::vector<roam_beacon> beacons;
-  for (const Beacon& beacon : fromMessage(message)) beacons.push_back(shim::toC(beacon));
+  const std::vector<roam_beacon> beacons = fromMessage(message);
   for (auto& slot : estimators_) slot.instance->setBeacons(beacons);
 }
 
@@ -155,16 +153,14 @@ void Host::publishOutputs(EstimatorSlot& slot, bool force_status) {
     std::vector<roam_pose> poses;
     if (instance.pollPoses(&poses)) {
       for (const auto& pose : poses) {
-        publish(slot.section.pose_channel, toMessage(shim::fromC(pose), slot.section.name));
+        publish(slot.section.pose_channel, toMessage(pose, slot.section.name));
         ++slot.poses_published;
       }
     }
     bool changed = false;
     std::vector<roam_beacon> beacons;
     if (instance.pollMap(&changed, &beacons) && changed) {
-      Map map;
-      for (const auto& beacon : beacons) map.push_back(shim::fromC(beacon));
-      publish(slot.section.map_channel, toMessage(map, data_utime_, slot.section.name));
+      publish(slot.section.map_channel, toMessage(beacons, data_utime_, slot.section.name));
     }
   }
   if (instance.failed() && !slot.failure_reported) {
@@ -190,9 +186,7 @@ void Host::publishTrajectory(EstimatorSlot& slot, bool force) {
   bool available = false;
   std::vector<roam_pose> poses;
   if (slot.instance->pollTrajectory(force, &available, &poses) && available) {
-    Path path;
-    for (const auto& pose : poses) path.push_back(shim::fromC(pose));
-    publish(slot.section.trajectory_channel, toMessage(path, data_utime_, slot.section.name));
+    publish(slot.section.trajectory_channel, toMessage(poses, data_utime_, slot.section.name));
     slot.last_trajectory_utime = data_utime_;
   }
   if (slot.instance->failed() && !slot.failure_reported) reportFailure(slot);

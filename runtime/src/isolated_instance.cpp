@@ -74,7 +74,7 @@ IsolatedInstance::IsolatedInstance(std::shared_ptr<PluginLibrary> library, std::
   }
   const auto keys = in.strs();
   const auto values = in.strs();
-  cpu_total_s_ = in.pod<double>();
+  record_.cpu_total_s = in.pod<double>();
   for (size_t i = 0; i < keys.size() && i < values.size(); ++i) effective_.emplace_back(keys[i], values[i]);
 }
 
@@ -99,7 +99,7 @@ std::string IsolatedInstance::reapAndDescribe(bool wait) {
 
 void IsolatedInstance::childGone(const std::string& how) {
   pending_ = false;
-  markFailed("the estimator's process was " + how + " during " + in_flight_);
+  record_.fail("the estimator's process was " + how + " during " + in_flight_);
 }
 
 bool IsolatedInstance::send(const std::vector<uint8_t>& request, std::string what) {
@@ -123,7 +123,7 @@ void IsolatedInstance::settle() {
     ::kill(pid_, SIGKILL);
     reapAndDescribe(true);
     pending_ = false;
-    markFailed("no answer within " + std::string(finishing_ ? "max_finish_s" : "max_update_s") + " = " +
+    record_.fail("no answer within " + std::string(finishing_ ? "max_finish_s" : "max_update_s") + " = " +
                seconds(limit_s) + " during " + in_flight_ + ": its process was ended");
     return;
   }
@@ -135,12 +135,12 @@ void IsolatedInstance::settle() {
   isolation::Answer answer;
   wire::Reader in(frame_.data(), frame_.size());
   if (!isolation::read(in, &answer)) {
-    markFailed("isolation: a malformed answer to " + in_flight_);
+    record_.fail("isolation: a malformed answer to " + in_flight_);
     return;
   }
-  cpu_total_s_ = answer.cpu_total_s;
-  cpu_last_s_ = answer.cpu_last_s;
-  wall_last_s_ = answer.wall_last_s;
+  record_.cpu_total_s = answer.cpu_total_s;
+  record_.cpu_last_s = answer.cpu_last_s;
+  record_.wall_last_s = answer.wall_last_s;
   if (answer.polled) {
     poses_.insert(poses_.end(), answer.poses.begin(), answer.poses.end());
     poses_fresh_ = map_fresh_ = true;
@@ -152,38 +152,12 @@ void IsolatedInstance::settle() {
   trajectory_available_ = answer.trajectory_available;
   trajectory_ = std::move(answer.trajectory);
   if (answer.has_status) last_status_ = std::move(answer.status);
-  if (answer.failed) markFailed(answer.error);
+  if (answer.failed) record_.fail(answer.error);
 }
 
-bool IsolatedInstance::failed() {
+InstanceRecord& IsolatedInstance::record() {
   settle();
-  return failed_;
-}
-
-const std::string& IsolatedInstance::error() {
-  settle();
-  return error_;
-}
-
-double IsolatedInstance::cpuTotalSeconds() {
-  settle();
-  return cpu_total_s_;
-}
-
-double IsolatedInstance::cpuLastSeconds() {
-  settle();
-  return cpu_last_s_;
-}
-
-double IsolatedInstance::wallLastSeconds() {
-  settle();
-  return wall_last_s_;
-}
-
-void IsolatedInstance::markFailed(const std::string& error) {
-  if (failed_) return;
-  failed_ = true;
-  error_ = error;
+  return record_;
 }
 
 bool IsolatedInstance::setInitialPose(const roam_pose& pose) {
@@ -217,7 +191,7 @@ bool IsolatedInstance::addRange(const roam_range& range) {
 bool IsolatedInstance::finish() {
   settle();
   finishing_ = true;
-  if (failed_) return false;
+  if (record_.failed) return false;
   wire::Writer out;
   out.pod<uint8_t>(isolation::kFinish);
   return send(out.bytes(), "finish");
@@ -280,7 +254,7 @@ EstimatorInstance::Status IsolatedInstance::status() {
     settle();
   }
   Status out = last_status_;
-  if (failed_) out.state = ROAM_STATE_FAILED;
+  if (record_.failed) out.state = ROAM_STATE_FAILED;
   return out;
 }
 

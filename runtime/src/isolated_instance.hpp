@@ -41,11 +41,7 @@ class IsolatedInstance : public EstimatorInstance {
 
   const std::string& name() const override { return name_; }
   const std::string& pluginName() const override { return plugin_name_; }
-  bool failed() override;
-  const std::string& error() override;
-  double cpuTotalSeconds() override;
-  double cpuLastSeconds() override;
-  double wallLastSeconds() override;
+  InstanceRecord& record() override;
   KeyValues effectiveConfig() override { return effective_; }
 
   bool setInitialPose(const roam_pose& pose) override;
@@ -59,7 +55,6 @@ class IsolatedInstance : public EstimatorInstance {
   bool pollTrajectory(bool force, bool* available, std::vector<roam_pose>* poses) override;
 
   Status status() override;
-  void markFailed(const std::string& error) override;
 
   pid_t pid() const { return pid_; }
 
@@ -81,9 +76,7 @@ class IsolatedInstance : public EstimatorInstance {
   bool pending_ = false;
   double sent_at_s_ = 0.0;
   std::string in_flight_;  // "add_odometry of the message at utime 123"
-  bool failed_ = false;
-  std::string error_;
-  double cpu_total_s_ = 0.0, cpu_last_s_ = 0.0, wall_last_s_ = 0.0;
+  InstanceRecord record_;
   KeyValues effective_;
   // Outputs the child polled after the last input, not yet taken by the host.
   std::vector<roam_pose> poses_;

@@ -195,7 +195,7 @@ PluginInstance::PluginInstance(std::shared_ptr<PluginLibrary> library, std::stri
   roam_error error{};
   const double start = threadCpuSeconds();
   handle_ = d_->create(kvs.data(), static_cast<int32_t>(kvs.size()), &error);
-  cpu_total_s_ += threadCpuSeconds() - start;
+  record_.cpu_total_s += threadCpuSeconds() - start;
   if (handle_ == nullptr) {
     error.key[sizeof(error.key) - 1] = '\0';
     error.message[sizeof(error.message) - 1] = '\0';
@@ -209,36 +209,30 @@ PluginInstance::~PluginInstance() {
 
 template <typename Call>
 bool PluginInstance::call(const char* what, Call&& body) {
-  if (failed_) return false;
+  if (record_.failed) return false;
   const auto wall_start = std::chrono::steady_clock::now();
   const double start = threadCpuSeconds();
   const int rc = body();
-  cpu_last_s_ = threadCpuSeconds() - start;
-  cpu_total_s_ += cpu_last_s_;
+  record_.cpu_last_s = threadCpuSeconds() - start;
+  record_.cpu_total_s += record_.cpu_last_s;
   // An update is an input call and the polls after it: polls add to the input's wall time.
   const bool is_poll = std::string(what).rfind("poll_", 0) == 0;
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  wall_last_s_ = is_poll ? wall_last_s_ + wall_s : wall_s;
+  record_.wall_last_s = is_poll ? record_.wall_last_s + wall_s : wall_s;
   if (rc != ROAM_OK) {
     const char* message = d_->last_error(handle_);
-    markFailed(std::string(what) + ": " + (message && message[0] ? message : "error with no message"));
+    record_.fail(std::string(what) + ": " + (message && message[0] ? message : "error with no message"));
     return false;
   }
   const double limit_s = finishing_ ? limits_.max_finish_s : limits_.max_update_s;
-  if (limit_s > 0.0 && wall_last_s_ > limit_s) {
+  if (limit_s > 0.0 && record_.wall_last_s > limit_s) {
     char text[160];
-    std::snprintf(text, sizeof text, "%s: took %.3g s, over %s = %g s", what, wall_last_s_,
+    std::snprintf(text, sizeof text, "%s: took %.3g s, over %s = %g s", what, record_.wall_last_s,
                   finishing_ ? "max_finish_s" : "max_update_s", limit_s);
-    markFailed(text);
+    record_.fail(text);
     return false;
   }
   return true;
-}
-
-void PluginInstance::markFailed(const std::string& error) {
-  if (failed_) return;
-  failed_ = true;
-  error_ = error;
 }
 
 KeyValues PluginInstance::effectiveConfig() {
@@ -330,7 +324,7 @@ PluginInstance::Status PluginInstance::status() {
       out.values.push_back(status.values[i]);
     }
   }
-  if (failed_) out.state = ROAM_STATE_FAILED;
+  if (record_.failed) out.state = ROAM_STATE_FAILED;
   return out;
 }
 

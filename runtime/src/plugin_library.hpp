@@ -82,11 +82,7 @@ class PluginInstance : public EstimatorInstance {
 
   const std::string& name() const override { return name_; }
   const std::string& pluginName() const override { return plugin_name_; }
-  bool failed() override { return failed_; }
-  const std::string& error() override { return error_; }
-  double cpuTotalSeconds() override { return cpu_total_s_; }
-  double cpuLastSeconds() override { return cpu_last_s_; }
-  double wallLastSeconds() override { return wall_last_s_; }
+  InstanceRecord& record() override { return record_; }
   KeyValues effectiveConfig() override;
 
   bool setInitialPose(const roam_pose& pose) override;
@@ -101,7 +97,6 @@ class PluginInstance : public EstimatorInstance {
   bool pollTrajectory(bool force, bool* available, std::vector<roam_pose>* poses) override;
 
   Status status() override;
-  void markFailed(const std::string& error) override;
 
  private:
   // Runs one call into the plugin, timed; false and failed on error or over the time limit.
@@ -115,11 +110,7 @@ class PluginInstance : public EstimatorInstance {
   std::string plugin_name_;
   CallLimits limits_;
   bool finishing_ = false;  // finish() was called: max_finish_s applies
-  bool failed_ = false;
-  std::string error_;
-  double cpu_total_s_ = 0.0;
-  double cpu_last_s_ = 0.0;
-  double wall_last_s_ = 0.0;
+  InstanceRecord record_;
 };
 
 }  // namespace runtime

@@ -114,29 +114,9 @@ bool ThreadedInstance::start(std::function<void(EstimatorInstance&)> call, bool 
   return true;
 }
 
-bool ThreadedInstance::failed() {
+InstanceRecord& ThreadedInstance::record() {
   settle();
-  return inner_->failed();
-}
-
-const std::string& ThreadedInstance::error() {
-  settle();
-  return inner_->error();
-}
-
-double ThreadedInstance::cpuTotalSeconds() {
-  settle();
-  return inner_->cpuTotalSeconds();
-}
-
-double ThreadedInstance::cpuLastSeconds() {
-  settle();
-  return inner_->cpuLastSeconds();
-}
-
-double ThreadedInstance::wallLastSeconds() {
-  settle();
-  return inner_->wallLastSeconds();
+  return inner_->record();
 }
 
 KeyValues ThreadedInstance::effectiveConfig() {
@@ -196,11 +176,6 @@ bool ThreadedInstance::pollTrajectory(bool force, bool* available, std::vector<r
 EstimatorInstance::Status ThreadedInstance::status() {
   settle();
   return inner_->status();
-}
-
-void ThreadedInstance::markFailed(const std::string& error) {
-  settle();
-  inner_->markFailed(error);
 }
 
 }  // namespace runtime

@@ -53,11 +53,7 @@ class ThreadedInstance : public EstimatorInstance {
 
   const std::string& name() const override { return inner_->name(); }
   const std::string& pluginName() const override { return inner_->pluginName(); }
-  bool failed() override;
-  const std::string& error() override;
-  double cpuTotalSeconds() override;
-  double cpuLastSeconds() override;
-  double wallLastSeconds() override;
+  InstanceRecord& record() override;
   KeyValues effectiveConfig() override;
 
   bool setInitialPose(const roam_pose& pose) override;
@@ -71,7 +67,6 @@ class ThreadedInstance : public EstimatorInstance {
   bool pollTrajectory(bool force, bool* available, std::vector<roam_pose>* poses) override;
 
   Status status() override;
-  void markFailed(const std::string& error) override;
 
  private:
   // Queues `call` for the worker, then polls poses and map (and, at the end of input, the path).

@@ -31,6 +31,7 @@
 #include "plugin_library.hpp"
 #include "roam/map_t.hpp"
 #include "roam/messages.hpp"
+#include "roam/plugin_shim.hpp"
 #include "roam/odometry_t.hpp"
 #include "roam/pose_t.hpp"
 #include "roam/range_t.hpp"
@@ -171,7 +172,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     switch (kind) {
       case 0: {
         roam::Odometry odometry{utime, in.number(), in.number()};
-        return encode(roam::toMessage(odometry));
+        return encode(roam::toMessage(roam::shim::toC(odometry)));
       }
       case 1: {
         roam::Range range;
@@ -181,7 +182,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         range.sigma_m = in.number();
         range.has_bearing = (in.byte() & 1) != 0;
         range.bearing_rad = in.number();
-        return encode(roam::toMessage(range));
+        return encode(roam::toMessage(roam::shim::toC(range)));
       }
       case 2: {
         roam::Pose pose;
@@ -189,7 +190,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         pose.x_m = in.number();
         pose.y_m = in.number();
         pose.heading_rad = in.number();
-        return encode(roam::toMessage(pose));
+        return encode(roam::toMessage(roam::shim::toC(pose)));
       }
       default: {
         roam::Map map(in.byte() % 9);
@@ -198,7 +199,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
           beacon.x_m = in.number();
           beacon.y_m = in.number();
         }
-        return encode(roam::toMessage(map, utime));
+        return encode(roam::toMessage(roam::shim::toC(map), utime));
       }
     }
   };

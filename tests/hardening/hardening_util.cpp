@@ -15,6 +15,7 @@
 #include "result_log.hpp"
 #include "roam/estimator_status_t.hpp"
 #include "roam/messages.hpp"
+#include "roam/plugin_shim.hpp"
 #include "roam/safe_decode.hpp"
 #include "sim.hpp"
 
@@ -109,12 +110,12 @@ void readResult(const fs::path& path, RunResult* result) {
     } else if (channel.rfind("POSE_", 0) == 0) {
       roam::pose_t m;
       if ((ok = decodeMessage(event->data, event->datalen, &m) == event->datalen)) {
-        result->poses[m.estimator].push_back(fromMessage(m));
+        result->poses[m.estimator].push_back(shim::fromC(fromMessage(m)));
       }
     } else if (channel.rfind("TRAJECTORY_", 0) == 0) {
       roam::trajectory_t m;
       if ((ok = decodeMessage(event->data, event->datalen, &m) == event->datalen)) {
-        result->trajectory[m.estimator] = fromMessage(m);
+        result->trajectory[m.estimator] = shim::fromC(fromMessage(m));
       }
     }
     if (!ok) result->result_log_whole = false;

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../common/fixture_log.hpp"
 #include "../tools/tool_test_util.hpp"
 #include "roam/map_t.hpp"
 #include "roam/odometry_t.hpp"
@@ -23,36 +24,8 @@ namespace {
 
 using roam_test::Element;
 
-class LogWriter {
- public:
-  explicit LogWriter(const std::string& path) : log_(path, "w") {}
-  template <typename Message>
-  void write(const std::string& channel, int64_t utime, const Message& m) {
-    std::vector<uint8_t> buffer(m.getEncodedSize());
-    m.encode(buffer.data(), 0, static_cast<int>(buffer.size()));
-    lcm::LogEvent e;
-    e.eventnum = n_++;
-    e.timestamp = utime;
-    e.channel = channel;
-    e.datalen = static_cast<int32_t>(buffer.size());
-    e.data = buffer.data();
-    log_.writeEvent(&e);
-  }
-
- private:
-  lcm::LogFile log_;
-  int64_t n_ = 0;
-};
-
-roam::pose_t pose(int64_t utime, double x, double y, const std::string& estimator = "") {
-  roam::pose_t p{};
-  p.utime = utime;
-  p.estimator = estimator;
-  p.x = x;
-  p.y = y;
-  for (double& c : p.covariance) c = NAN;
-  return p;
-}
+using roam::test::FixtureLog;
+using roam::test::fixturePose;
 
 // Ground truth: 21 poses at t = 0..20 s, at (t, 0); odometry 1 m straight ahead per second, so
 // the odometry baseline is exact (mean error 0).
@@ -64,33 +37,23 @@ roam::pose_t pose(int64_t utime, double x, double y, const std::string& estimato
 //   at the 11 ground-truth times inside its span.
 std::string writeFixture(const roam_test::ScratchDir& dir) {
   const std::string path = dir.file("fixture.lcmlog");
-  LogWriter log(path);
-  roam::map_t beacons{};
-  beacons.num_beacons = 2;
-  beacons.beacons.resize(2);
-  beacons.beacons[0].id = 1;
-  beacons.beacons[0].x = 10;
-  beacons.beacons[0].y = 10;
-  beacons.beacons[1].id = 2;
-  beacons.beacons[1].x = 5;
-  beacons.beacons[1].y = -6;
-  for (auto& b : beacons.beacons)
-    for (double& c : b.covariance) c = NAN;
-  log.write("INITIAL_POSE", 0, pose(0, 0, 0));
+  FixtureLog log(path);
+  const roam::map_t beacons = roam::test::fixtureMap({{1, 10, 10}, {2, 5, -6}});
+  log.write("INITIAL_POSE", 0, fixturePose(0, 0, 0));
   log.write("BEACONS", 0, beacons);
   roam::trajectory_t beta{};
   beta.estimator = "beta";
   for (int t = 0; t <= 20; ++t) {
     const int64_t utime = t * 1000000LL;
-    log.write("GROUND_TRUTH", utime, pose(utime, t, 0));
+    log.write("GROUND_TRUTH", utime, fixturePose(utime, t, 0));
     if (t > 0) {
       roam::odometry_t odometry{};
       odometry.utime = utime;
       odometry.delta_distance = 1.0;
       log.write("ODOMETRY", utime, odometry);
     }
-    log.write("POSE_ALPHA", utime, pose(utime, t, 0.5, "alpha"));
-    log.write("POSE_BETA", utime, pose(utime, 500, 500, "beta"));
+    log.write("POSE_ALPHA", utime, fixturePose(utime, t, 0.5, "alpha"));
+    log.write("POSE_BETA", utime, fixturePose(utime, 500, 500, "beta"));
     if (t >= 5 && t <= 15) {
       beta.utimes.push_back(utime);
       beta.x.push_back(t);

@@ -7,11 +7,9 @@
 #include <regex>
 
 #include "sanitizer_skip.hpp"
-#include "dataset_log.hpp"
 #include "log_compare.hpp"
 #include "result_log.hpp"
 #include "roam/odometry_t.hpp"
-#include "sim.hpp"
 #include "small_world.hpp"
 #include "test_util.hpp"
 
@@ -41,8 +39,7 @@ struct Fixture {
 Fixture makeFixture(const std::string& name) {
   Fixture f;
   f.dir = scratchDir(name);
-  f.log = f.dir / "sim.lcmlog";
-  writeDatasetLog(f.log.string(), sim::simulate(testing_util::smallWorld()));
+  f.log = testing_util::writeSmallWorldLog(f.dir);
   return f;
 }
 

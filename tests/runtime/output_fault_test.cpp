@@ -3,8 +3,6 @@
 // with one line naming the file and exit status 3, and what was written before stays readable.
 #include <gtest/gtest.h>
 
-#include "dataset_log.hpp"
-#include "sim.hpp"
 #include "small_world.hpp"
 #include "test_util.hpp"
 
@@ -20,8 +18,7 @@ namespace fs = std::filesystem;
 std::string logcheck() { return std::string(ROAM_BINARY_DIR) + "/bin/roam-logcheck"; }
 
 fs::path writeSetup(const fs::path& dir, const std::string& estimators) {
-  const fs::path log = dir / "sim.lcmlog";
-  writeDatasetLog(log.string(), sim::simulate(testing_util::smallWorld()));
+  const fs::path log = testing_util::writeSmallWorldLog(dir);
   return writeFile(dir / "run.ini", "[runtime]\ninput = " + log.string() +
                                         "\nplugin_path = " ROAM_TEST_PLUGIN_DIR "\n" + estimators);
 }

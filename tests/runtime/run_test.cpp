@@ -5,9 +5,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "dataset_log.hpp"
 #include "result_log.hpp"
-#include "sim.hpp"
 #include "small_world.hpp"
 #include "test_util.hpp"
 
@@ -21,13 +19,6 @@ using testing_util::writeFile;
 namespace fs = std::filesystem;
 
 constexpr double kPathTolerance_m = 1e-6;
-
-// A small synthetic run (lawn mower, 4 beacons, round-robin ranges) written as a log.
-fs::path writeSimLog(const fs::path& dir) {
-  const fs::path log = dir / "sim.lcmlog";
-  writeDatasetLog(log.string(), sim::simulate(testing_util::smallWorld()));
-  return log;
-}
 
 fs::path writeConfig(const fs::path& dir, const fs::path& input, const std::string& estimators,
                      const std::string& plugin_path = "") {
@@ -95,7 +86,7 @@ TEST(Run, DeadReckoningOnPlaza1MatchesAnIndependentIntegrationOfTheCsv) {
 
 TEST(Run, TwoReplaysGiveIdenticalEstimates) {
   const fs::path dir = scratchDir("run_twice");
-  const fs::path log = writeSimLog(dir);
+  const fs::path log = testing_util::writeSmallWorldLog(dir);
   const fs::path config = writeConfig(dir, log, "[estimator.dr]\nplugin = deadreckoning\n");
   ASSERT_EQ(run(roamRun() + " " + config.string() + " --no-progress --output first.lcmlog").status, 0);
   ASSERT_EQ(run(roamRun() + " " + config.string() + " --no-progress --output second.lcmlog").status, 0);
@@ -117,7 +108,7 @@ TEST(Run, TwoReplaysGiveIdenticalEstimates) {
 
 TEST(Run, AFailingPluginIsIsolatedAndNamedInTheExitStatus) {
   const fs::path dir = scratchDir("run_failing");
-  const fs::path log = writeSimLog(dir);
+  const fs::path log = testing_util::writeSmallWorldLog(dir);
   const fs::path config = writeConfig(
       dir, log, "[estimator.good]\nplugin = deadreckoning\n[estimator.bad]\nplugin = throws\nfail_after = 50\n",
       ROAM_TEST_PLUGIN_DIR);
@@ -140,7 +131,7 @@ TEST(Run, AFailingPluginIsIsolatedAndNamedInTheExitStatus) {
 
 TEST(Run, StartupErrorsAreOneLineWithExitStatus2) {
   const fs::path dir = scratchDir("run_startup");
-  const fs::path log = writeSimLog(dir);
+  const fs::path log = testing_util::writeSmallWorldLog(dir);
   struct Case {
     std::string estimators;
     std::string expected;
@@ -185,7 +176,7 @@ TEST(Run, PrintConfigShowsDefaults) {
 
 TEST(Run, DamagedLogsAreReplayedAsFarAsPossibleAndReported) {
   const fs::path dir = scratchDir("run_damaged");
-  const fs::path log = writeSimLog(dir);
+  const fs::path log = testing_util::writeSmallWorldLog(dir);
   const std::string bytes = fileBytes(log);
   const fs::path config_text = writeConfig(dir, dir / "damaged.lcmlog", "[estimator.dr]\nplugin = deadreckoning\n");
 

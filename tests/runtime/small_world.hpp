@@ -2,6 +2,9 @@
 // 4 beacons ranged round robin (UWB-like), 2 % odometry noise, 0.1 m range noise. Seeded.
 #pragma once
 
+#include <filesystem>
+
+#include "dataset_log.hpp"
 #include "sim.hpp"
 
 namespace roam {
@@ -15,6 +18,13 @@ inline sim::SimConfig smallWorld() {
   config.odo_distance_sigma_rel = 0.02;
   config.range_sigma_m = 0.1;
   return config;
+}
+
+// smallWorld() simulated and written as <dir>/sim.lcmlog, the input of the replay tests.
+inline std::filesystem::path writeSmallWorldLog(const std::filesystem::path& dir) {
+  const std::filesystem::path log = dir / "sim.lcmlog";
+  writeDatasetLog(log.string(), sim::simulate(smallWorld()));
+  return log;
 }
 
 }  // namespace testing_util

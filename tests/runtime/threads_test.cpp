@@ -2,10 +2,8 @@
 // or without isolated estimators among them, and a failing estimator still stops only itself.
 #include <gtest/gtest.h>
 
-#include "dataset_log.hpp"
 #include "log_compare.hpp"
 #include "result_log.hpp"
-#include "sim.hpp"
 #include "small_world.hpp"
 #include "test_util.hpp"
 
@@ -33,8 +31,7 @@ const char* const kEstimators =
 
 TEST(Threads, TheOutputLogIsTheSameWhateverTheThreadCount) {
   const fs::path dir = scratchDir("threads_same");
-  const fs::path log = dir / "sim.lcmlog";
-  writeDatasetLog(log.string(), sim::simulate(testing_util::smallWorld()));
+  const fs::path log = testing_util::writeSmallWorldLog(dir);
   const fs::path config = writeFile(dir / "run.ini", "[runtime]\ninput = " + log.string() +
                                                          "\nplugin_path = " ROAM_TEST_PLUGIN_DIR "\n" + kEstimators);
   const std::pair<std::string, std::string> runs[] = {

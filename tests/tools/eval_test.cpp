@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../common/fixture_log.hpp"
 #include "roam/estimator_status_t.hpp"
 #include "roam/map_t.hpp"
 #include "roam/odometry_t.hpp"
@@ -19,36 +20,8 @@ namespace {
 
 constexpr double kTolerance = 1e-9;
 
-class LogWriter {
- public:
-  explicit LogWriter(const std::string& path) : log_(path, "w") {}
-  template <typename Message>
-  void write(const std::string& channel, int64_t utime, const Message& m) {
-    std::vector<uint8_t> buffer(m.getEncodedSize());
-    m.encode(buffer.data(), 0, static_cast<int>(buffer.size()));
-    lcm::LogEvent e;
-    e.eventnum = n_++;
-    e.timestamp = utime;
-    e.channel = channel;
-    e.datalen = static_cast<int32_t>(buffer.size());
-    e.data = buffer.data();
-    log_.writeEvent(&e);
-  }
-
- private:
-  lcm::LogFile log_;
-  int64_t n_ = 0;
-};
-
-roam::pose_t pose(int64_t utime, double x, double y, const std::string& estimator = "") {
-  roam::pose_t p{};
-  p.utime = utime;
-  p.estimator = estimator;
-  p.x = x;
-  p.y = y;
-  for (double& c : p.covariance) c = NAN;
-  return p;
-}
+using roam::test::FixtureLog;
+using roam::test::fixturePose;
 
 // Ground truth: 20 poses, t = 0..19 s, at (t, 0).
 // Estimator "fix" publishes POSE_FIX at even t = 0..18 only, at (t, 0.01 (t - 9)^2): at an even
@@ -60,31 +33,23 @@ roam::pose_t pose(int64_t utime, double x, double y, const std::string& estimato
 // the truth rotated by 90 degrees about the origin and moved by (1, 2): (t, 0) -> (1, 2 + t).
 std::string writeFixture(const roam_test::ScratchDir& dir) {
   const std::string path = dir.file("fixture.lcmlog");
-  LogWriter log(path);
-  roam::map_t beacons{};
-  beacons.num_beacons = 2;
-  beacons.beacons.resize(2);
-  beacons.beacons[0].id = 1;
-  beacons.beacons[0].x = 10;
-  beacons.beacons[0].y = 10;
-  beacons.beacons[1].id = 2;
-  beacons.beacons[1].x = -10;
-  beacons.beacons[1].y = 5;
-  log.write("INITIAL_POSE", 0, pose(0, 0, 0));
+  FixtureLog log(path);
+  const roam::map_t beacons = roam::test::fixtureMap({{1, 10, 10}, {2, -10, 5}});
+  log.write("INITIAL_POSE", 0, fixturePose(0, 0, 0));
   log.write("BEACONS", 0, beacons);
   roam::trajectory_t smooth{};
   smooth.estimator = "smooth";
   for (int t = 0; t < 20; ++t) {
     const int64_t utime = t * 1000000LL;
-    log.write("GROUND_TRUTH", utime, pose(utime, t, 0));
+    log.write("GROUND_TRUTH", utime, fixturePose(utime, t, 0));
     if (t > 0) {
       roam::odometry_t odometry{};
       odometry.utime = utime;
       odometry.delta_distance = 1.0;
       log.write("ODOMETRY", utime, odometry);
     }
-    if (t % 2 == 0 && t <= 18) log.write("POSE_FIX", utime, pose(utime, t, 0.01 * (t - 9) * (t - 9), "fix"));
-    log.write("POSE_SMOOTH", utime, pose(utime, 100, 100, "smooth"));
+    if (t % 2 == 0 && t <= 18) log.write("POSE_FIX", utime, fixturePose(utime, t, 0.01 * (t - 9) * (t - 9), "fix"));
+    log.write("POSE_SMOOTH", utime, fixturePose(utime, 100, 100, "smooth"));
     smooth.utimes.push_back(utime);
     smooth.x.push_back(1.0);
     smooth.y.push_back(2.0 + t);
@@ -300,10 +265,10 @@ TEST(Eval, APathCoveringLittleOfTheRunShowsItsCoverageAndIsNotRanked) {
   roam_test::ScratchDir dir;
   const std::string path = dir.file("quit.lcmlog");
   {
-    LogWriter log(path);
-    log.write("INITIAL_POSE", 0, pose(0, 0, 0));
-    for (int t = 0; t < 20; ++t) log.write("GROUND_TRUTH", t * 1000000LL, pose(t * 1000000LL, t, 0));
-    log.write("POSE_QUIT", 0, pose(0, 0, 0, "quit"));
+    FixtureLog log(path);
+    log.write("INITIAL_POSE", 0, fixturePose(0, 0, 0));
+    for (int t = 0; t < 20; ++t) log.write("GROUND_TRUTH", t * 1000000LL, fixturePose(t * 1000000LL, t, 0));
+    log.write("POSE_QUIT", 0, fixturePose(0, 0, 0, "quit"));
   }
   const roam_test::ToolResult text = roam_test::runTool(roam_test::tool("roam-eval") + " " + path + " --metric mean");
   ASSERT_EQ(text.status, 0) << text.out;
@@ -380,7 +345,7 @@ TEST(Eval, StatusPrintsEachEstimatorsLastStatusLine) {
   roam_test::ScratchDir dir;
   const std::string path = dir.file("status.lcmlog");
   {
-    LogWriter log(path);
+    FixtureLog log(path);
     roam::estimator_status_t status{};
     status.estimator = "ekf";
     status.state = roam::estimator_status_t::TRACKING;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "roam/messages.hpp"
+#include "roam/plugin_shim.hpp"
 
 namespace roam {
 namespace {
@@ -68,21 +69,21 @@ LogWriteSummary writeDatasetLog(const std::string& path, const Dataset& dataset)
 
   LogOut log(path);
   LogWriteSummary summary;
-  log.write(channels::INITIAL_POSE, dataset.start.utime, toMessage(dataset.start));
-  log.write(channels::BEACONS, dataset.start.utime, toMessage(dataset.beacons, dataset.start.utime));
+  log.write(channels::INITIAL_POSE, dataset.start.utime, toMessage(shim::toC(dataset.start)));
+  log.write(channels::BEACONS, dataset.start.utime, toMessage(shim::toC(dataset.beacons), dataset.start.utime));
   summary.beacons = static_cast<long>(dataset.beacons.size());
   for (const Item& item : items) {
     switch (item.source) {
       case Source::kGroundTruth:
-        log.write(channels::GROUND_TRUTH, item.utime, toMessage(dataset.ground_truth[item.index]));
+        log.write(channels::GROUND_TRUTH, item.utime, toMessage(shim::toC(dataset.ground_truth[item.index])));
         ++summary.ground_truth;
         break;
       case Source::kOdometry:
-        log.write(channels::ODOMETRY, item.utime, toMessage(dataset.odometry[item.index]));
+        log.write(channels::ODOMETRY, item.utime, toMessage(shim::toC(dataset.odometry[item.index])));
         ++summary.odometry;
         break;
       case Source::kRange:
-        log.write(channels::RANGE, item.utime, toMessage(dataset.ranges[item.index]));
+        log.write(channels::RANGE, item.utime, toMessage(shim::toC(dataset.ranges[item.index])));
         ++summary.ranges;
         break;
     }

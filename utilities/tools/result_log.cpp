@@ -12,6 +12,7 @@
 #include "roam/estimator_status_t.hpp"
 #include "roam/estimation/motion_model.hpp"
 #include "roam/messages.hpp"
+#include "roam/plugin_shim.hpp"
 #include "roam/safe_decode.hpp"
 
 namespace roam {
@@ -83,28 +84,28 @@ ResultLog readResultLog(const std::string& path) {
     bool ok = true;
     if (c == channels::GROUND_TRUTH) {
       roam::pose_t m;
-      if ((ok = decode(*event, &m))) result.ground_truth.push_back(fromMessage(m));
+      if ((ok = decode(*event, &m))) result.ground_truth.push_back(shim::fromC(fromMessage(m)));
     } else if (c == channels::INITIAL_POSE) {
       roam::pose_t m;
-      if ((ok = decode(*event, &m)) && !result.start) result.start = fromMessage(m);
+      if ((ok = decode(*event, &m)) && !result.start) result.start = shim::fromC(fromMessage(m));
     } else if (c == channels::BEACONS) {
       roam::map_t m;
-      if ((ok = decode(*event, &m))) result.beacons = fromMessage(m);
+      if ((ok = decode(*event, &m))) result.beacons = shim::fromC(fromMessage(m));
     } else if (c == channels::ODOMETRY) {
       roam::odometry_t m;
-      if ((ok = decode(*event, &m))) result.odometry.push_back(fromMessage(m));
+      if ((ok = decode(*event, &m))) result.odometry.push_back(shim::fromC(fromMessage(m)));
     } else if (c == channels::RANGE) {
       roam::range_t m;
-      if ((ok = decode(*event, &m))) result.ranges.push_back(fromMessage(m));
+      if ((ok = decode(*event, &m))) result.ranges.push_back(shim::fromC(fromMessage(m)));
     } else if (startsWith(c, channels::POSE_PREFIX)) {
       roam::pose_t m;
       if ((ok = decode(*event, &m)))
-        estimator(c.substr(std::strlen(channels::POSE_PREFIX)), m.estimator).poses.push_back(fromMessage(m));
+        estimator(c.substr(std::strlen(channels::POSE_PREFIX)), m.estimator).poses.push_back(shim::fromC(fromMessage(m)));
     } else if (startsWith(c, channels::TRAJECTORY_PREFIX)) {
       roam::trajectory_t m;
       if ((ok = decode(*event, &m))) {
         try {
-          estimator(c.substr(std::strlen(channels::TRAJECTORY_PREFIX)), m.estimator).trajectory = fromMessage(m);
+          estimator(c.substr(std::strlen(channels::TRAJECTORY_PREFIX)), m.estimator).trajectory = shim::fromC(fromMessage(m));
         } catch (const std::exception&) {
           ok = false;
         }
@@ -112,7 +113,7 @@ ResultLog readResultLog(const std::string& path) {
     } else if (startsWith(c, channels::MAP_PREFIX)) {
       roam::map_t m;
       if ((ok = decode(*event, &m)))
-        estimator(c.substr(std::strlen(channels::MAP_PREFIX)), m.estimator).map = fromMessage(m);
+        estimator(c.substr(std::strlen(channels::MAP_PREFIX)), m.estimator).map = shim::fromC(fromMessage(m));
     } else if (startsWith(c, channels::STATUS_PREFIX)) {
       roam::estimator_status_t m;
       if ((ok = decode(*event, &m))) {

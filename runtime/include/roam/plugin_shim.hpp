@@ -73,7 +73,8 @@ struct Instance {
   std::vector<double> diagnostic_values;
 };
 
-// Defined in the SDK library (plugin_shim.cpp).
+// The C side of the ABI <-> roam/types.hpp: the shim's one conversion each way per struct
+// (plugin_shim.cpp). The host converts LCM <-> C (roam/messages.hpp) and never these.
 roam_pose toC(const Pose& pose);
 Pose fromC(const roam_pose& pose);
 roam_beacon toC(const Beacon& beacon);
@@ -82,6 +83,21 @@ roam_odometry toC(const Odometry& odometry);
 Odometry fromC(const roam_odometry& odometry);
 roam_range toC(const Range& range);
 Range fromC(const roam_range& range);
+// Element by element: a Map or Path to C and back.
+template <typename T>
+auto toC(const std::vector<T>& items) {
+  std::vector<decltype(toC(items.front()))> out;
+  out.reserve(items.size());
+  for (const T& item : items) out.push_back(toC(item));
+  return out;
+}
+template <typename C>
+auto fromC(const std::vector<C>& items) {
+  std::vector<decltype(fromC(items.front()))> out;
+  out.reserve(items.size());
+  for (const C& item : items) out.push_back(fromC(item));
+  return out;
+}
 // "" if usable, else the reason (non-finite value, negative range, ...).
 std::string checkOdometry(const roam_odometry& odometry);  // finite values only
 std::string checkRange(const roam_range& range);

@@ -1,16 +1,21 @@
-// Channel names and conversions between the plain structs of roam/types.hpp and the roam LCM
-// messages. The only place outside the runtime where struct <-> message mapping is written down.
+// Channel names and the conversions between roam's LCM messages and the C structs of the plugin
+// ABI (roam/plugin_abi.h): the host's side of the boundary, one conversion each way per message.
+// The other side, C struct <-> roam/types.hpp, is the shim's (roam::shim::toC / fromC). A tool
+// that reads a log into roam/types.hpp composes the two: shim::fromC(fromMessage(message)).
+// A field added to a message touches its .lcm file, its field list in messages.cpp and its field
+// list in plugin_shim.cpp.
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "roam/map_t.hpp"
 #include "roam/odometry_t.hpp"
+#include "roam/plugin_abi.h"
 #include "roam/pose_t.hpp"
 #include "roam/range_t.hpp"
 #include "roam/trajectory_t.hpp"
-#include "roam/types.hpp"
 
 namespace roam {
 namespace channels {
@@ -37,24 +42,27 @@ std::string outputChannel(const std::string& prefix, const std::string& estimato
 // ASCII upper case ("ekf-2" -> "EKF-2"): the channel suffix of an estimator name.
 std::string upperCase(const std::string& text);
 
-// odometry_t <-> Odometry
-roam::odometry_t toMessage(const Odometry& odometry);
-Odometry fromMessage(const roam::odometry_t& message);
+// odometry_t <-> roam_odometry
+roam_odometry fromMessage(const roam::odometry_t& message);
+roam::odometry_t toMessage(const roam_odometry& odometry);
 
-// range_t <-> Range
-roam::range_t toMessage(const Range& range);
-Range fromMessage(const roam::range_t& message);
+// range_t <-> roam_range (has_bearing is 0 or 1 on both sides)
+roam_range fromMessage(const roam::range_t& message);
+roam::range_t toMessage(const roam_range& range);
 
-// pose_t <-> Pose; `estimator` is "" for inputs (INITIAL_POSE, GROUND_TRUTH).
-roam::pose_t toMessage(const Pose& pose, const std::string& estimator = "");
-Pose fromMessage(const roam::pose_t& message);
+// pose_t <-> roam_pose; `estimator` is "" for inputs (INITIAL_POSE, GROUND_TRUTH).
+roam_pose fromMessage(const roam::pose_t& message);
+roam::pose_t toMessage(const roam_pose& pose, const std::string& estimator = "");
 
-// map_t <-> Map (the message's utime and estimator are not part of Map).
-roam::map_t toMessage(const Map& map, int64_t utime, const std::string& estimator = "");
-Map fromMessage(const roam::map_t& message);
+// map_t <-> beacons (the message's utime and estimator are not part of the beacons).
+std::vector<roam_beacon> fromMessage(const roam::map_t& message);
+roam::map_t toMessage(const std::vector<roam_beacon>& beacons, int64_t utime,
+                      const std::string& estimator = "");
 
-// trajectory_t <-> Path (covariances are not carried: NaN on the way back).
-roam::trajectory_t toMessage(const Path& path, int64_t utime, const std::string& estimator = "");
-Path fromMessage(const roam::trajectory_t& message);
+// trajectory_t <-> poses. Covariances are not carried: NaN on the way back. Throws
+// std::runtime_error if the message's parallel arrays differ in length.
+std::vector<roam_pose> fromMessage(const roam::trajectory_t& message);
+roam::trajectory_t toMessage(const std::vector<roam_pose>& poses, int64_t utime,
+                             const std::string& estimator = "");
 
 }  // namespace roam
