@@ -33,5 +33,25 @@ bool multilaterateRobust(const std::vector<std::array<double, 2>>& positions_m,
                          const std::vector<double>& ranges_m, double sigma_m,
                          RobustMultilateration* result);
 
+// Consensus (RANSAC-like, deterministic): the point that the most ranges agree with, where up to
+// half of them may be arbitrarily wrong (non-line-of-sight, echoes, short ranges). Candidates are
+// the intersections of pairs of range circles (two points each: mirror images across the line
+// of the pair's positions; the closest point on that line where the circles miss); range i
+// agrees with a candidate c when | |c - p_i| - r_i | <= tolerance_m[i]. The best candidate (most
+// agreeing ranges; ties: the smaller sum of squared normalised residuals) is refined by
+// Gauss-Newton on its agreeing ranges and the agreement recounted (twice). Every pair is tried
+// when there are at most max_pairs of them, otherwise max_pairs pairs chosen by a fixed
+// sequence (bit-identical runs).
+struct ConsensusMultilateration {
+  std::array<double, 2> point_m{0.0, 0.0};
+  std::vector<bool> inlier;  // per range
+  int inliers = 0;
+};
+
+// False if fewer than 2 ranges, sizes differ, or no candidate exists.
+bool multilaterateConsensus(const std::vector<std::array<double, 2>>& positions_m,
+                            const std::vector<double>& ranges_m, const std::vector<double>& tolerance_m,
+                            ConsensusMultilateration* result, int max_pairs = 400);
+
 }  // namespace estimation
 }  // namespace roam
