@@ -105,8 +105,11 @@ class EkfSlam : public Estimator {
   Pose currentPose(int64_t utime) const;
   void publishDiagnostics();
   estimation::MotionNoise motionNoise(const Odometry& odometry) const;
+  Eigen::Matrix3d scaledMotionNoise(const Eigen::Matrix3d& Q) const;
   EkfFilter::CalibrationPrior calibrationPrior() const;
   void noteGated(double innovation_m);
+  void checkBiasObservable(int64_t range_utime);
+  bool biasEstimated(int64_t step_index) const;  // b is a live state in this step
   void adaptRangeNoise(double nis);
 
   EkfConfig config_;
@@ -133,6 +136,13 @@ class EkfSlam : public Estimator {
   double motion_noise_scale_ = 1.0;
   double range_noise_scale_ = 1.0;  // multiplies the range variance (adaptRangeNoise)
   double nis_average_ = 1.0;        // running average of applied ranges' NIS  // multiplies the odometry covariance (starvation raises it)
+  // Bias observability (checkBiasObservable): the first ranges' times, and the decision.
+  int rate_ranges_ = 0;
+  int64_t rate_first_utime_ = 0, rate_last_utime_ = 0;
+  // Until decided, b is held at 0; estimated from step bias_release_step_ on (re-runs too).
+  bool bias_fixed_ = false;
+  bool bias_undecided_ = false;
+  int64_t bias_release_step_ = -1;
   bool calib_rerun_pending_ = false;  // history kept from the start for one calibrated re-run
   int64_t calibration_reruns_ = 0;
   int64_t stationary_updates_ = 0;
