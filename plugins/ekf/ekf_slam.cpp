@@ -1,9 +1,11 @@
 #include "ekf_slam.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "roam/estimation/motion_model.hpp"
+#include "roam/estimation/multilateration.hpp"
 
 namespace roam {
 
@@ -370,7 +372,7 @@ void EkfSlam::initialiseReadyBeacons() {
         bias.scale_sigma = std::sqrt(filter_.covariance()(EkfFilter::kScale, EkfFilter::kScale));
         bias.offset_sigma_m = std::sqrt(filter_.covariance()(EkfFilter::kOffset, EkfFilter::kOffset));
       }
-      const MultilaterationResult solve = multilaterate(it->second, bias, init_config_);
+      const MultilaterationResult solve = multilaterate(consensusSightings(it->second, bias), bias, init_config_);
       if (solve.status == MultilaterationResult::Status::kReady) {
         rollbackAndInsert(id, solve);
         inserted = true;
@@ -379,6 +381,34 @@ void EkfSlam::initialiseReadyBeacons() {
     }
   }
   touched_.clear();
+}
+
+std::vector<Sighting> EkfSlam::consensusSightings(const std::vector<Sighting>& sightings,
+                                                  const RangeBiasPrior& bias) const {
+  // Non-line-of-sight ranges (30 % of them, 2-40 m long) leave the batch solve's chi2 far above
+  // its noise model, so its widened sigma never passes init_max_sigma_m and the beacon is never
+  // initialised. The sightings that agree on one point (estimation::multilaterateConsensus,
+  // tolerance: the gate times each range's sigma with its pose's and the range bias' spread)
+  // are solved instead; the others are re-applied through the gate once the beacon is in.
+  if (static_cast<int>(sightings.size()) < config_.init_min_ranges) return sightings;
+  std::vector<std::array<double, 2>> positions;
+  std::vector<double> ranges, tolerances;
+  const double gate = std::sqrt(gate_range_chi2_);
+  for (const Sighting& s : sightings) {
+    positions.push_back({s.x_m, s.y_m});
+    ranges.push_back((s.range_m - bias.offset_m) / bias.scale);
+    const double var = s.sigma_m * s.sigma_m + s.position_var_m2 + std::pow(bias.scale_sigma * s.range_m, 2) +
+                       bias.offset_sigma_m * bias.offset_sigma_m;
+    tolerances.push_back(gate * std::sqrt(var));
+  }
+  estimation::ConsensusMultilateration consensus;
+  if (!estimation::multilaterateConsensus(positions, ranges, tolerances, &consensus) ||
+      consensus.inliers < config_.init_min_ranges || consensus.inliers == static_cast<int>(sightings.size()))
+    return sightings;
+  std::vector<Sighting> agreeing;
+  for (size_t i = 0; i < sightings.size(); ++i)
+    if (consensus.inlier[i]) agreeing.push_back(sightings[i]);
+  return agreeing;
 }
 
 void EkfSlam::rollbackAndInsert(int id, const MultilaterationResult& solve) {

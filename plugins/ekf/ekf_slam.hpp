@@ -96,6 +96,7 @@ class EkfSlam : public Estimator {
   void runStep(const Step& step, bool live);
   void handleRange(const Range& range, int64_t step_index, bool live);
   void initialiseReadyBeacons();
+  std::vector<Sighting> consensusSightings(const std::vector<Sighting>& sightings, const RangeBiasPrior& bias) const;
   void rollbackAndInsert(int id, const MultilaterationResult& solve);
   void replayFrom(int64_t offset, int64_t first_step);
   void rerunWithCalibration();
