@@ -372,7 +372,7 @@ void EkfSlam::initialiseReadyBeacons() {
         bias.scale_sigma = std::sqrt(filter_.covariance()(EkfFilter::kScale, EkfFilter::kScale));
         bias.offset_sigma_m = std::sqrt(filter_.covariance()(EkfFilter::kOffset, EkfFilter::kOffset));
       }
-      const MultilaterationResult solve = multilaterate(consensusSightings(it->second, bias), bias, init_config_);
+      const MultilaterationResult solve = estimation::multilaterate(consensusSightings(it->second, bias), bias, init_config_);
       if (solve.status == MultilaterationResult::Status::kReady) {
         rollbackAndInsert(id, solve);
         inserted = true;

@@ -18,7 +18,7 @@
 //
 // Beacon initialisation (range-only beacons are not observable from one range): ranges to an
 // unknown beacon are buffered with the filtered pose they were taken at. Once the multilateration
-// (multilateration.hpp) is unambiguous and well constrained, the filter is rolled back to the
+// (roam/estimation/multilateration.hpp) is unambiguous and well constrained, the filter is rolled back to the
 // state before that beacon's first buffered range, the beacon is inserted there with a weak
 // prior (the batch solution's mean, its covariance times init_prior_inflation), and every step
 // since is re-run, re-applying the buffered ranges. The beacon thus enters with the correlations
@@ -40,11 +40,16 @@
 
 #include "ekf_config.hpp"
 #include "ekf_filter.hpp"
-#include "multilateration.hpp"
 #include "roam/estimation/motion_model.hpp"
+#include "roam/estimation/multilateration.hpp"
 #include "roam/estimator.hpp"
 
 namespace roam {
+
+using estimation::MultilaterationConfig;
+using estimation::MultilaterationResult;
+using estimation::RangeBiasPrior;
+using estimation::Sighting;
 
 class EkfSlam : public Estimator {
  public:
