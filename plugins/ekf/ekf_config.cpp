@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 namespace roam {
+namespace ekf {
 
 void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("anchor", &c->anchor, "start_pose | beacons").oneOf({"start_pose", "beacons"});
@@ -94,4 +95,5 @@ double chiSquareQuantile(int dof, double probability) {
   return z * z;
 }
 
+}  // namespace ekf
 }  // namespace roam

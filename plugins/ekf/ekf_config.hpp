@@ -6,6 +6,7 @@
 #include "roam/options.hpp"
 
 namespace roam {
+namespace ekf {
 
 struct EkfConfig {
   // "start_pose": the INITIAL_POSE is exact and every beacon is initialised from ranges;
@@ -85,4 +86,5 @@ void validate(const EkfConfig& config);
 // Chi-square quantile for dof = 1 or 2 at the given probability (infinity for probability 1).
 double chiSquareQuantile(int dof, double probability);
 
+}  // namespace ekf
 }  // namespace roam

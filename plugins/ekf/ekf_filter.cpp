@@ -8,6 +8,7 @@
 #include "roam/types.hpp"
 
 namespace roam {
+namespace ekf {
 
 void EkfFilter::reset(const Eigen::Vector3d& world_T_robot, const Eigen::Matrix3d& pose_cov,
                       bool with_bias, double scale_sigma, double offset_sigma_m,
@@ -219,4 +220,5 @@ EkfFilter::Update EkfFilter::applyUpdate(const Eigen::MatrixXd& H,
   return Update::kApplied;
 }
 
+}  // namespace ekf
 }  // namespace roam

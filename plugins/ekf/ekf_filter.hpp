@@ -23,6 +23,7 @@
 #include "roam/types.hpp"
 
 namespace roam {
+namespace ekf {
 
 // Prior of the odometry calibration states (off: s = 1, b = 0 exactly, no states).
 struct EkfCalibrationPrior {
@@ -128,4 +129,5 @@ class EkfFilter {
   std::map<int, int> index_;  // beacon id -> index of its x in the state
 };
 
+}  // namespace ekf
 }  // namespace roam

@@ -8,6 +8,7 @@
 #include "roam/estimation/multilateration.hpp"
 
 namespace roam {
+namespace ekf {
 
 EkfSlam::EkfSlam(const EkfConfig& config) : config_(config) {
   validate(config_);
@@ -580,4 +581,5 @@ bool EkfSlam::trajectory(bool /*force*/, Path* path) {
   return true;
 }
 
+}  // namespace ekf
 }  // namespace roam

@@ -45,6 +45,7 @@
 #include "roam/estimator.hpp"
 
 namespace roam {
+namespace ekf {
 
 using estimation::MultilaterationConfig;
 using estimation::MultilaterationResult;
@@ -158,4 +159,5 @@ class EkfSlam : public Estimator {
   double previous_rate_var_ = 0.0;
 };
 
+}  // namespace ekf
 }  // namespace roam

@@ -14,6 +14,7 @@
 #include "sim.hpp"
 
 namespace roam {
+namespace ekf {
 namespace {
 
 constexpr double kExact = 1e-12;
@@ -218,4 +219,5 @@ TEST(EkfCalibration, NlosThirtyPercentWithDriftingOdometryInitialisesFromThePose
 }
 
 }  // namespace
+}  // namespace ekf
 }  // namespace roam
