@@ -3,7 +3,9 @@
 #include <ceres/ceres.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace roam {
 namespace estimation {
@@ -88,6 +90,136 @@ bool multilaterateRobust(const std::vector<std::array<double, 2>>& positions_m,
     if (std::abs(residual) <= 3.0 * kCauchy95) ++result->inliers;
   }
   return std::isfinite(beacon[0]) && std::isfinite(beacon[1]);
+}
+
+namespace {
+
+// The (up to two) intersections of circles (a, ra) and (b, rb); where they miss, the point on
+// the line a-b between the circles (one candidate).
+int circleIntersections(const Eigen::Vector2d& a, double ra, const Eigen::Vector2d& b, double rb,
+                        Eigen::Vector2d out[2]) {
+  const Eigen::Vector2d ab = b - a;
+  const double d = ab.norm();
+  if (!(d > 1e-9)) return 0;
+  const Eigen::Vector2d u = ab / d;
+  const double along = (d * d + ra * ra - rb * rb) / (2.0 * d);
+  const double h2 = ra * ra - along * along;
+  if (h2 <= 0.0) {
+    // Disjoint or nested: the point along the line between the two circles' nearest points.
+    const double ta = (d >= ra + rb) ? ra : (ra > rb ? ra : -ra);
+    const double tb = (d >= ra + rb) ? d - rb : (ra > rb ? d + rb : d - rb);
+    out[0] = a + 0.5 * (ta + tb) * u;
+    return 1;
+  }
+  const double h = std::sqrt(h2);
+  const Eigen::Vector2d n(-u.y(), u.x());
+  out[0] = a + along * u + h * n;
+  out[1] = a + along * u - h * n;
+  return 2;
+}
+
+struct Score {
+  int inliers = 0;
+  double cost = 0.0;
+};
+
+Score scoreCandidate(const Eigen::Vector2d& c, const std::vector<std::array<double, 2>>& p,
+                     const std::vector<double>& r, const std::vector<double>& tol) {
+  Score s;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const double e = std::hypot(c.x() - p[i][0], c.y() - p[i][1]) - r[i];
+    if (std::abs(e) <= tol[i]) {
+      ++s.inliers;
+      s.cost += (e * e) / (tol[i] * tol[i]);
+    }
+  }
+  return s;
+}
+
+// Gauss-Newton on the ranges within tolerance of c (weights 1 / tol^2), a few iterations.
+Eigen::Vector2d refine(Eigen::Vector2d c, const std::vector<std::array<double, 2>>& p,
+                       const std::vector<double>& r, const std::vector<double>& tol) {
+  for (int iteration = 0; iteration < 10; ++iteration) {
+    Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d g = Eigen::Vector2d::Zero();
+    for (size_t i = 0; i < p.size(); ++i) {
+      const Eigen::Vector2d diff = c - Eigen::Vector2d(p[i][0], p[i][1]);
+      const double dist = diff.norm();
+      if (!(dist > 1e-9)) continue;
+      const double e = dist - r[i];
+      if (std::abs(e) > tol[i]) continue;
+      const Eigen::Vector2d J = diff / dist;
+      const double w = 1.0 / (tol[i] * tol[i]);
+      A += w * J * J.transpose();
+      g += w * J * e;
+    }
+    if (std::abs(A.determinant()) < 1e-12 * (A.trace() * A.trace() + 1e-300)) break;
+    const Eigen::Vector2d step = A.ldlt().solve(g);
+    if (!step.allFinite()) break;
+    c -= step;
+    if (step.norm() < 1e-9) break;
+  }
+  return c;
+}
+
+}  // namespace
+
+bool multilaterateConsensus(const std::vector<std::array<double, 2>>& positions_m,
+                            const std::vector<double>& ranges_m, const std::vector<double>& tolerance_m,
+                            ConsensusMultilateration* result, int max_pairs) {
+  const size_t n = positions_m.size();
+  if (n < 2 || ranges_m.size() != n || tolerance_m.size() != n) return false;
+  const size_t all_pairs = n * (n - 1) / 2;
+  const bool every_pair = all_pairs <= static_cast<size_t>(std::max(1, max_pairs));
+  const size_t tries = every_pair ? all_pairs : static_cast<size_t>(max_pairs);
+  Eigen::Vector2d best = Eigen::Vector2d::Zero();
+  Score best_score;
+  bool found = false;
+  uint64_t state = 0x9e3779b97f4a7c15ULL;  // fixed sequence: splitmix64
+  auto next = [&state]() {
+    uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  };
+  size_t i = 0, j = 1;
+  for (size_t t = 0; t < tries; ++t) {
+    if (every_pair) {
+      if (t > 0 && ++j == n) j = ++i + 1;
+    } else {
+      i = next() % n;
+      j = next() % (n - 1);
+      if (j >= i) ++j;
+    }
+    const Eigen::Vector2d a(positions_m[i][0], positions_m[i][1]), b(positions_m[j][0], positions_m[j][1]);
+    Eigen::Vector2d candidates[2];
+    const int k = circleIntersections(a, ranges_m[i], b, ranges_m[j], candidates);
+    for (int c = 0; c < k; ++c) {
+      const Score s = scoreCandidate(candidates[c], positions_m, ranges_m, tolerance_m);
+      if (!found || s.inliers > best_score.inliers || (s.inliers == best_score.inliers && s.cost < best_score.cost)) {
+        best = candidates[c];
+        best_score = s;
+        found = true;
+      }
+    }
+  }
+  if (!found) return false;
+  for (int round = 0; round < 2; ++round) {
+    const Eigen::Vector2d refined = refine(best, positions_m, ranges_m, tolerance_m);
+    const Score s = scoreCandidate(refined, positions_m, ranges_m, tolerance_m);
+    if (s.inliers < best_score.inliers) break;
+    best = refined;
+    best_score = s;
+  }
+  result->point_m = {best.x(), best.y()};
+  result->inlier.assign(n, false);
+  result->inliers = 0;
+  for (size_t m = 0; m < n; ++m) {
+    const double e = std::hypot(best.x() - positions_m[m][0], best.y() - positions_m[m][1]) - ranges_m[m];
+    result->inlier[m] = std::abs(e) <= tolerance_m[m];
+    result->inliers += result->inlier[m] ? 1 : 0;
+  }
+  return std::isfinite(best.x()) && std::isfinite(best.y());
 }
 
 }  // namespace estimation

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 namespace roam {
+namespace ekf {
 
 void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("anchor", &c->anchor, "start_pose | beacons").oneOf({"start_pose", "beacons"});
@@ -20,6 +21,7 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("odo_scale_sigma", &c->odo_scale_sigma, "prior sigma of the odometry distance scale (mean 1)").min(0.0, false);
   o.add("gyro_bias_sigma_rad_s", &c->gyro_bias_sigma_rad_s, "prior sigma of the heading-rate bias (rad/s)").min(0.0, false);
   o.add("gyro_bias_walk_rad_s_per_sqrt_s", &c->gyro_bias_walk_rad_s_per_sqrt_s, "random walk of the heading-rate bias").min(0.0);
+  o.add("gyro_bias_max_drift_rad", &c->gyro_bias_max_drift_rad, "fix the heading-rate bias at 0 if its prior turns the heading more than this between position fixes (0: always estimate)").min(0.0);
   o.add("stationary_speed_mps", &c->stationary_speed_mps, "below this speed a reported turn is the heading-rate bias (0: never)").min(0.0);
   o.add("stationary_min_steps", &c->stationary_min_steps, "slow steps in a row turning at one rate before the zero-rate update").min(1);
   o.add("calib_rerun_fraction", &c->calib_rerun_fraction, "start_pose: re-filter from the start once the bias sigma is this fraction of its prior (0: never)").min(0.0).max(1.0);
@@ -32,6 +34,7 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("range_bias", &c->range_bias, "none | shared (estimated range scale and offset)").oneOf({"none", "shared"});
   o.add("range_scale_sigma", &c->range_scale_sigma, "prior sigma of the range scale (mean 1)").min(0.0, false);
   o.add("range_offset_sigma_m", &c->range_offset_sigma_m, "prior sigma of the range offset (mean 0)").min(0.0, false);
+  o.add("range_huber_k", &c->range_huber_k, "Huber threshold of the range update in innovation sigmas (0: off)").min(0.0);
   o.add("gate_probability", &c->gate_probability, "Mahalanobis gate probability (1: no gate)").min(0.0, false).max(1.0);
   o.add("init_min_ranges", &c->init_min_ranges, "ranges buffered before a beacon may be initialised").min(3);
   o.add("init_min_baseline_m", &c->init_min_baseline_m, "extent of the buffered poses before initialising").min(0.0);
@@ -60,10 +63,12 @@ void validate(const EkfConfig& c) {
   if (!(c.odo_scale_sigma > 0.0) || !(c.gyro_bias_sigma_rad_s > 0.0)) fail("odo_scale_sigma, gyro_bias_sigma_rad_s > 0");
   if (!(c.gyro_bias_walk_rad_s_per_sqrt_s >= 0.0)) fail("gyro_bias_walk_rad_s_per_sqrt_s >= 0");
   if (!(c.calib_rerun_fraction >= 0.0 && c.calib_rerun_fraction <= 1.0)) fail("calib_rerun_fraction in [0, 1]");
+  if (!(c.gyro_bias_max_drift_rad >= 0.0)) fail("gyro_bias_max_drift_rad >= 0");
   if (!(c.stationary_speed_mps >= 0.0)) fail("stationary_speed_mps >= 0");
   if (c.stationary_min_steps < 1) fail("stationary_min_steps >= 1");
   if (!(c.motion_noise_max_scale >= 1.0)) fail("motion_noise_max_scale >= 1");
   if (!(c.motion_noise_decay > 0.0 && c.motion_noise_decay <= 1.0)) fail("motion_noise_decay in (0, 1]");
+  if (!(c.range_huber_k >= 0.0)) fail("range_huber_k >= 0");
   if (c.recover_after_gated < 0) fail("recover_after_gated >= 0");
   if (!(c.gate_probability > 0.0 && c.gate_probability <= 1.0)) fail("gate_probability in (0, 1]");
   if (c.init_min_ranges < 3) fail("init_min_ranges >= 3");
@@ -90,4 +95,5 @@ double chiSquareQuantile(int dof, double probability) {
   return z * z;
 }
 
+}  // namespace ekf
 }  // namespace roam

@@ -6,6 +6,7 @@
 #include "roam/options.hpp"
 
 namespace roam {
+namespace ekf {
 
 struct EkfConfig {
   // "start_pose": the INITIAL_POSE is exact and every beacon is initialised from ranges;
@@ -30,6 +31,12 @@ struct EkfConfig {
   double odo_scale_sigma = 0.05;
   double gyro_bias_sigma_rad_s = 0.01;
   double gyro_bias_walk_rad_s_per_sqrt_s = 1e-5;
+  // Observability of the heading-rate bias from the ranges: the heading is re-fixed about every
+  // three ranges (a 2-D position and one more); if the bias prior turns the heading by more than
+  // this over that time (gyro_bias_sigma_rad_s x 3 x the mean interval of the first 20 ranges),
+  // the EKF's heading leaves its linear regime before the ranges can observe the bias, and the
+  // bias is fixed at 0 instead (sparse, AUV-like data). 0: always estimate it.
+  double gyro_bias_max_drift_rad = 0.05;
   // Zero-rate update below this speed (the robot stands still: its reported turn is the bias).
   double stationary_speed_mps = 0.02;
   // ... in this many steps in a row, each turning at the rate of the one before (within the gate).
@@ -46,6 +53,9 @@ struct EkfConfig {
   double range_scale_sigma = 0.1;          // prior on the scale (mean 1)
   double range_offset_sigma_m = 0.5;       // prior on the offset (mean 0)
 
+  // Huber threshold (innovation sigmas) of the range update: beyond it a range is down-weighted
+  // by k / |z|; 1.345 is 95 % efficient on Gaussian noise (0: plain EKF update).
+  double range_huber_k = 1.345;
   double gate_probability = 0.999;         // Mahalanobis gate; 1 disables gating
   // Starvation: after this many ranges to known beacons gated in a row, the filter is taken as
   // lost and its position variance is widened by the smallest of their squared innovations.
@@ -76,4 +86,5 @@ void validate(const EkfConfig& config);
 // Chi-square quantile for dof = 1 or 2 at the given probability (infinity for probability 1).
 double chiSquareQuantile(int dof, double probability);
 
+}  // namespace ekf
 }  // namespace roam

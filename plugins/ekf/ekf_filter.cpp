@@ -1,12 +1,14 @@
 #include "ekf_filter.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "roam/estimation/motion_model.hpp"
 #include "roam/types.hpp"
 
 namespace roam {
+namespace ekf {
 
 void EkfFilter::reset(const Eigen::Vector3d& world_T_robot, const Eigen::Matrix3d& pose_cov,
                       bool with_bias, double scale_sigma, double offset_sigma_m,
@@ -132,7 +134,7 @@ double EkfFilter::predictBearing(int beacon_id, Eigen::RowVectorXd* jacobian) co
 }
 
 EkfFilter::Update EkfFilter::updateRange(int beacon_id, double range_m, double sigma_m,
-                                         double gate_chi2, double* nis) {
+                                         double gate_chi2, double* nis, double huber_k) {
   const int m = index_.at(beacon_id);
   if ((x_.segment<2>(m) - x_.head<2>()).norm() < 1e-9) return Update::kDegenerate;
   Eigen::RowVectorXd H;
@@ -141,6 +143,26 @@ EkfFilter::Update EkfFilter::updateRange(int beacon_id, double range_m, double s
   innovation(0) = range_m - predicted_m;
   Eigen::MatrixXd R(1, 1);
   R(0, 0) = sigma_m * sigma_m;
+  if (huber_k > 0.0) {
+    // Huber: beyond k sigma of the innovation's own spread S, the range counts with weight
+    // k / |z| (z = innovation / sqrt(S)), i.e. S -> S |z| / k: its pull grows linearly, not
+    // quadratically, so a non-line-of-sight range that slips through the gate moves the state
+    // (and the calibration and bias states with it) by at most k sigma's worth.
+    // The weight is judged without the range-bias states' own uncertainty: while their prior
+    // is wide (10 % of a 150 m range is 15 m) every outlier fits by moving them, which is how
+    // they learn a wrong scale from the first few ranges.
+    const double HPHt = H.dot(P_ * H.transpose());
+    const double S = HPHt + R(0, 0);
+    const double z2 = innovation(0) * innovation(0) / S;
+    if (nis) *nis = z2;
+    if (!(z2 <= gate_chi2)) return Update::kGated;
+    Eigen::RowVectorXd H0 = H;
+    if (with_bias_) H0(kScale) = H0(kOffset) = 0.0;
+    const double S0 = H0.dot(P_ * H0.transpose()) + R(0, 0);
+    const double z = std::abs(innovation(0)) / std::sqrt(S0);
+    if (z > huber_k) R(0, 0) += (z / huber_k - 1.0) * S;
+    return applyUpdate(H, innovation, R, std::numeric_limits<double>::infinity(), nullptr);
+  }
   return applyUpdate(H, innovation, R, gate_chi2, nis);
 }
 
@@ -198,4 +220,5 @@ EkfFilter::Update EkfFilter::applyUpdate(const Eigen::MatrixXd& H,
   return Update::kApplied;
 }
 
+}  // namespace ekf
 }  // namespace roam

@@ -23,6 +23,7 @@
 #include "roam/types.hpp"
 
 namespace roam {
+namespace ekf {
 
 // Prior of the odometry calibration states (off: s = 1, b = 0 exactly, no states).
 struct EkfCalibrationPrior {
@@ -64,8 +65,9 @@ class EkfFilter {
   enum class Update { kApplied, kGated, kDegenerate };
   // Range (or range-bearing) update; nis receives the normalised innovation squared.
   // A measurement whose nis exceeds gate_chi2 is not applied (kGated).
+  // huber_k > 0: ranges beyond huber_k sigma of the innovation are down-weighted (Huber).
   Update updateRange(int beacon_id, double range_m, double sigma_m, double gate_chi2,
-                     double* nis);
+                     double* nis, double huber_k = 0.0);
   Update updateRangeBearing(int beacon_id, double range_m, double sigma_m, double bearing_rad,
                             double sigma_bearing_rad, double gate_chi2, double* nis);
 
@@ -94,6 +96,20 @@ class EkfFilter {
     x_(calib_index_) = distance_scale;
     x_(calib_index_ + 1) = heading_rate_bias_rad_s;
   }
+  // Takes the heading-rate bias out of the estimate: b = 0 exactly (mean and covariance row).
+  void fixHeadingRateBias() {
+    if (!withCalibration()) return;
+    x_(calib_index_ + 1) = 0.0;
+    P_.row(calib_index_ + 1).setZero();
+    P_.col(calib_index_ + 1).setZero();
+  }
+  // Puts it back: b uncorrelated with the rest, its mean kept, variance var_rad2_s2.
+  void releaseHeadingRateBias(double var_rad2_s2) {
+    if (!withCalibration()) return;
+    P_.row(calib_index_ + 1).setZero();
+    P_.col(calib_index_ + 1).setZero();
+    P_(calib_index_ + 1, calib_index_ + 1) = var_rad2_s2;
+  }
   // Adds var to the pose block's diagonal (x, y, heading): re-opens a starved filter.
   void inflatePose(double var_m2, double var_rad2);
   double scale() const { return with_bias_ ? x_(kScale) : 1.0; }
@@ -113,4 +129,5 @@ class EkfFilter {
   std::map<int, int> index_;  // beacon id -> index of its x in the state
 };
 
+}  // namespace ekf
 }  // namespace roam

@@ -1,11 +1,14 @@
 #include "ekf_slam.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "roam/estimation/motion_model.hpp"
+#include "roam/estimation/multilateration.hpp"
 
 namespace roam {
+namespace ekf {
 
 EkfSlam::EkfSlam(const EkfConfig& config) : config_(config) {
   validate(config_);
@@ -28,6 +31,8 @@ void EkfSlam::start(const Pose& pose) {
                 config_.range_bias == "shared", config_.range_scale_sigma,
                 config_.range_offset_sigma_m, calibrationPrior());
   started_ = true;
+  bias_undecided_ = config_.estimate_odometry_calibration && config_.gyro_bias_max_drift_rad > 0.0;
+  if (bias_undecided_) filter_.fixHeadingRateBias();
   calib_rerun_pending_ = config_.estimate_odometry_calibration && config_.anchor == "start_pose" &&
                          config_.calib_rerun_fraction > 0.0;
   state_utime_ = pose.utime;
@@ -94,6 +99,11 @@ void EkfSlam::addOdometry(const Odometry& odometry) {
   step.before_utime = state_utime_;
   step.path_size = path_.size();
   step.standstill = confirmStandstill(odometry, std::max<int64_t>(0, odometry.utime - state_utime_) * 1e-6);
+  if (step.standstill && bias_undecided_) {
+    // A confirmed standstill observes the bias directly (zero-rate update), whatever the ranges.
+    bias_undecided_ = false;
+    bias_release_step_ = step.index;
+  }
   runStep(step, true);
   acceptOdometry();
   history_.push_back(std::move(step));
@@ -109,10 +119,43 @@ void EkfSlam::addOdometry(const Odometry& odometry) {
 
 void EkfSlam::addRange(const Range& range) {
   if (!(range.range_m > 0.0)) return rejectRange("range not positive");
+  checkBiasObservable(range.utime);
   waiting_.push_back(range);  // applied within the odometry step that contains its time
 }
 
+bool EkfSlam::biasEstimated(int64_t step_index) const {
+  if (!config_.estimate_odometry_calibration || bias_fixed_) return false;
+  if (config_.gyro_bias_max_drift_rad <= 0.0) return true;
+  return bias_release_step_ >= 0 && step_index >= bias_release_step_;
+}
+
+void EkfSlam::checkBiasObservable(int64_t range_utime) {
+  // The heading is re-fixed about every three ranges; over that time the bias prior turns it by
+  // gyro_bias_sigma_rad_s x 3 x (mean range interval). Above gyro_bias_max_drift_rad (AUV-like:
+  // a range every 3 s, 0.01 rad/s x 10 s = 0.1 rad) the linearised heading is off before the
+  // ranges can see the bias, and what the EKF learns for it is outliers and linearisation error
+  // (it drove the AUV runs to 100+ m): the bias is fixed at 0 (distance scale still estimated).
+  // Until the decision (the first 20 ranges) b is held at 0; if observable it is released with
+  // its prior at the next step (recorded, so re-runs from before it release it there too). A
+  // confirmed standstill before that releases it at once (addOdometry).
+  constexpr int kRateRanges = 20;
+  if (!bias_undecided_ || rate_ranges_ >= kRateRanges) return;
+  if (rate_ranges_ == 0) rate_first_utime_ = rate_last_utime_ = range_utime;
+  rate_first_utime_ = std::min(rate_first_utime_, range_utime);
+  rate_last_utime_ = std::max(rate_last_utime_, range_utime);
+  if (++rate_ranges_ < kRateRanges) return;
+  bias_undecided_ = false;
+  const double interval_s = (rate_last_utime_ - rate_first_utime_) * 1e-6 / (kRateRanges - 1);
+  if (config_.gyro_bias_sigma_rad_s * 3.0 * interval_s <= config_.gyro_bias_max_drift_rad) {
+    bias_release_step_ = next_step_;  // released with its prior at the start of that step
+    return;
+  }
+  bias_fixed_ = true;
+  calib_rerun_pending_ = false;  // nothing left to re-centre the run on
+}
+
 void EkfSlam::runStep(const Step& step, bool live) {
+  if (step.index == bias_release_step_) filter_.releaseHeadingRateBias(std::pow(config_.gyro_bias_sigma_rad_s, 2));
   for (const Insert& insert : step.inserts) {
     filter_.addBeacon(insert.id, insert.world_m, insert.cov_m2);
     map_dirty_ = true;
@@ -120,8 +163,8 @@ void EkfSlam::runStep(const Step& step, bool live) {
   const Odometry& odo = step.odometry;
   const int64_t t0 = state_utime_, t1 = odo.utime;
   const double dt_s = std::max<int64_t>(0, t1 - t0) * 1e-6;
-  const Eigen::Matrix3d Q = motion_noise_scale_ * estimation::incrementCovariance(odo, dt_s, motionNoise(odo));
-  const double bias_walk_var = std::pow(config_.gyro_bias_walk_rad_s_per_sqrt_s, 2) * dt_s;
+  const Eigen::Matrix3d Q = scaledMotionNoise(estimation::incrementCovariance(odo, dt_s, motionNoise(odo)));
+  const double bias_walk_var = !biasEstimated(step.index) ? 0.0 : std::pow(config_.gyro_bias_walk_rad_s_per_sqrt_s, 2) * dt_s;
   // The step is straight with the turn at its end: a range at fraction a of the step's time is
   // applied after a straight part a (u, v) (no turn, no bias: dt 0), its translation noise a Q_tt.
   double done = 0.0;  // fraction of the step already predicted
@@ -161,6 +204,20 @@ void EkfSlam::runStep(const Step& step, bool live) {
   }
   state_utime_ = t1;
   path_.push_back(currentPose(t1));
+}
+
+Eigen::Matrix3d EkfSlam::scaledMotionNoise(const Eigen::Matrix3d& Q) const {
+  // Starvation says the odometry's translation is worse than configured (an AUV's dead
+  // reckoning: 15 % against 2 %): motion_noise_scale_ multiplies the translation block (and the
+  // cross terms by its square root). The turn's variance is not scaled: a heading that random-
+  // walks by tenths of a radian per step puts every range outside the EKF's linear regime, and
+  // the configured heading noise is already a per-metre walk that covers a drifting gyro.
+  const double root = std::sqrt(motion_noise_scale_);
+  Eigen::Matrix3d scaled = Q;
+  scaled.topLeftCorner<2, 2>() *= motion_noise_scale_;
+  scaled.topRightCorner<2, 1>() *= root;
+  scaled.bottomLeftCorner<1, 2>() *= root;
+  return scaled;
 }
 
 estimation::MotionNoise EkfSlam::motionNoise(const Odometry& odo) const {
@@ -211,7 +268,7 @@ bool EkfSlam::stationaryBiasUpdate(const Odometry& odo, double dt_s, double var_
   // translation (below stationary_speed_mps) has not turned either, so its reported turn w is
   // the bias: w = b dt + noise(var_turn). Gated like a range, so a turn on the spot (0.1 rad in a
   // 0.2 s step is ~40 sigma) is taken as a turn, not a bias.
-  if (!filter_.withCalibration() || config_.stationary_speed_mps <= 0.0 || !(dt_s > 0.0)) return false;
+  if (!filter_.withCalibration() || !biasEstimated(next_step_ - 1) || config_.stationary_speed_mps <= 0.0 || !(dt_s > 0.0)) return false;
   if (std::hypot(odo.forward_m, odo.lateral_m) > config_.stationary_speed_mps * dt_s) return false;
   const bool applied = filter_.updateHeadingRateBias(odo.delta_heading_rad, dt_s, var_turn_rad2, gate_range_chi2_) ==
                        EkfFilter::Update::kApplied;
@@ -228,7 +285,7 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
         range.has_bearing
             ? filter_.updateRangeBearing(range.beacon_id, range.range_m, sigma_m, range.bearing_rad,
                                          config_.bearing_sigma_rad, gate_range_bearing_chi2_, &nis)
-            : filter_.updateRange(range.beacon_id, range.range_m, sigma_m, gate_range_chi2_, &nis);
+            : filter_.updateRange(range.beacon_id, range.range_m, sigma_m, gate_range_chi2_, &nis, config_.range_huber_k);
     if (result == EkfFilter::Update::kApplied) {
       map_dirty_ = true;
       gated_in_row_ = 0;
@@ -316,7 +373,7 @@ void EkfSlam::initialiseReadyBeacons() {
         bias.scale_sigma = std::sqrt(filter_.covariance()(EkfFilter::kScale, EkfFilter::kScale));
         bias.offset_sigma_m = std::sqrt(filter_.covariance()(EkfFilter::kOffset, EkfFilter::kOffset));
       }
-      const MultilaterationResult solve = multilaterate(it->second, bias, init_config_);
+      const MultilaterationResult solve = estimation::multilaterate(consensusSightings(it->second, bias), bias, init_config_);
       if (solve.status == MultilaterationResult::Status::kReady) {
         rollbackAndInsert(id, solve);
         inserted = true;
@@ -325,6 +382,34 @@ void EkfSlam::initialiseReadyBeacons() {
     }
   }
   touched_.clear();
+}
+
+std::vector<Sighting> EkfSlam::consensusSightings(const std::vector<Sighting>& sightings,
+                                                  const RangeBiasPrior& bias) const {
+  // Non-line-of-sight ranges (30 % of them, 2-40 m long) leave the batch solve's chi2 far above
+  // its noise model, so its widened sigma never passes init_max_sigma_m and the beacon is never
+  // initialised. The sightings that agree on one point (estimation::multilaterateConsensus,
+  // tolerance: the gate times each range's sigma with its pose's and the range bias' spread)
+  // are solved instead; the others are re-applied through the gate once the beacon is in.
+  if (static_cast<int>(sightings.size()) < config_.init_min_ranges) return sightings;
+  std::vector<std::array<double, 2>> positions;
+  std::vector<double> ranges, tolerances;
+  const double gate = std::sqrt(gate_range_chi2_);
+  for (const Sighting& s : sightings) {
+    positions.push_back({s.x_m, s.y_m});
+    ranges.push_back((s.range_m - bias.offset_m) / bias.scale);
+    const double var = s.sigma_m * s.sigma_m + s.position_var_m2 + std::pow(bias.scale_sigma * s.range_m, 2) +
+                       bias.offset_sigma_m * bias.offset_sigma_m;
+    tolerances.push_back(gate * std::sqrt(var));
+  }
+  estimation::ConsensusMultilateration consensus;
+  if (!estimation::multilaterateConsensus(positions, ranges, tolerances, &consensus) ||
+      consensus.inliers < config_.init_min_ranges || consensus.inliers == static_cast<int>(sightings.size()))
+    return sightings;
+  std::vector<Sighting> agreeing;
+  for (size_t i = 0; i < sightings.size(); ++i)
+    if (consensus.inlier[i]) agreeing.push_back(sightings[i]);
+  return agreeing;
 }
 
 void EkfSlam::rollbackAndInsert(int id, const MultilaterationResult& solve) {
@@ -374,13 +459,15 @@ void EkfSlam::rerunWithCalibration() {
   // known to calib_rerun_fraction of its prior sigma; then the whole run is re-filtered once
   // from the start with the calibration means re-centred on the estimate (widths unchanged),
   // linearising about the right heading. Given up (history freed) after init_window_s.
-  if (!calib_rerun_pending_) return;
+  if (!calib_rerun_pending_ || bias_undecided_) return;
   const int c = filter_.calibrationIndex();
   const double sigma_b = std::sqrt(filter_.covariance()(c + 1, c + 1));
   if (filter_.beacons().empty() || !pending_.empty() || sigma_b > config_.calib_rerun_fraction * config_.gyro_bias_sigma_rad_s) return;
   calib_rerun_pending_ = false;
   if (history_.empty() || history_.front().index != 0) return;
   history_.front().before.recentreCalibration(filter_.odometryScale(), filter_.headingRateBias());
+  // The bias is known observable by now: the re-run estimates it from the first step.
+  if (bias_release_step_ > 0) bias_release_step_ = history_.front().index;
   history_.front().before.recentreBias(filter_.scale(), filter_.offset());  // as for the first beacon
   replayFrom(0, 0);
   ++calibration_reruns_;
@@ -468,6 +555,7 @@ void EkfSlam::publishDiagnostics() {
     setDiagnostic("odometry_distance_scale_sigma", std::sqrt(P(c, c)));
     setDiagnostic("heading_rate_bias_rad_s", filter_.headingRateBias());
     setDiagnostic("heading_rate_bias_sigma_rad_s", std::sqrt(P(c + 1, c + 1)));
+    setDiagnostic("heading_rate_bias_estimated", biasEstimated(next_step_ - 1) ? 1.0 : 0.0);
   }
 }
 
@@ -493,4 +581,5 @@ bool EkfSlam::trajectory(bool /*force*/, Path* path) {
   return true;
 }
 
+}  // namespace ekf
 }  // namespace roam

@@ -18,7 +18,7 @@
 //
 // Beacon initialisation (range-only beacons are not observable from one range): ranges to an
 // unknown beacon are buffered with the filtered pose they were taken at. Once the multilateration
-// (multilateration.hpp) is unambiguous and well constrained, the filter is rolled back to the
+// (roam/estimation/multilateration.hpp) is unambiguous and well constrained, the filter is rolled back to the
 // state before that beacon's first buffered range, the beacon is inserted there with a weak
 // prior (the batch solution's mean, its covariance times init_prior_inflation), and every step
 // since is re-run, re-applying the buffered ranges. The beacon thus enters with the correlations
@@ -40,11 +40,17 @@
 
 #include "ekf_config.hpp"
 #include "ekf_filter.hpp"
-#include "multilateration.hpp"
 #include "roam/estimation/motion_model.hpp"
+#include "roam/estimation/multilateration.hpp"
 #include "roam/estimator.hpp"
 
 namespace roam {
+namespace ekf {
+
+using estimation::MultilaterationConfig;
+using estimation::MultilaterationResult;
+using estimation::RangeBiasPrior;
+using estimation::Sighting;
 
 class EkfSlam : public Estimator {
  public:
@@ -96,6 +102,7 @@ class EkfSlam : public Estimator {
   void runStep(const Step& step, bool live);
   void handleRange(const Range& range, int64_t step_index, bool live);
   void initialiseReadyBeacons();
+  std::vector<Sighting> consensusSightings(const std::vector<Sighting>& sightings, const RangeBiasPrior& bias) const;
   void rollbackAndInsert(int id, const MultilaterationResult& solve);
   void replayFrom(int64_t offset, int64_t first_step);
   void rerunWithCalibration();
@@ -105,8 +112,11 @@ class EkfSlam : public Estimator {
   Pose currentPose(int64_t utime) const;
   void publishDiagnostics();
   estimation::MotionNoise motionNoise(const Odometry& odometry) const;
+  Eigen::Matrix3d scaledMotionNoise(const Eigen::Matrix3d& Q) const;
   EkfFilter::CalibrationPrior calibrationPrior() const;
   void noteGated(double innovation_m);
+  void checkBiasObservable(int64_t range_utime);
+  bool biasEstimated(int64_t step_index) const;  // b is a live state in this step
   void adaptRangeNoise(double nis);
 
   EkfConfig config_;
@@ -133,6 +143,13 @@ class EkfSlam : public Estimator {
   double motion_noise_scale_ = 1.0;
   double range_noise_scale_ = 1.0;  // multiplies the range variance (adaptRangeNoise)
   double nis_average_ = 1.0;        // running average of applied ranges' NIS  // multiplies the odometry covariance (starvation raises it)
+  // Bias observability (checkBiasObservable): the first ranges' times, and the decision.
+  int rate_ranges_ = 0;
+  int64_t rate_first_utime_ = 0, rate_last_utime_ = 0;
+  // Until decided, b is held at 0; estimated from step bias_release_step_ on (re-runs too).
+  bool bias_fixed_ = false;
+  bool bias_undecided_ = false;
+  int64_t bias_release_step_ = -1;
   bool calib_rerun_pending_ = false;  // history kept from the start for one calibrated re-run
   int64_t calibration_reruns_ = 0;
   int64_t stationary_updates_ = 0;
@@ -142,4 +159,5 @@ class EkfSlam : public Estimator {
   double previous_rate_var_ = 0.0;
 };
 
+}  // namespace ekf
 }  // namespace roam

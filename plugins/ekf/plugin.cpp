@@ -6,10 +6,10 @@
 namespace {
 
 std::unique_ptr<roam::Estimator> makeEkf(roam::Options& options) {
-  roam::EkfConfig config;
-  roam::addEkfOptions(options, &config);
+  roam::ekf::EkfConfig config;
+  roam::ekf::addEkfOptions(options, &config);
   options.parse();
-  return std::make_unique<roam::EkfSlam>(config);
+  return std::make_unique<roam::ekf::EkfSlam>(config);
 }
 
 }  // namespace

@@ -26,16 +26,16 @@ roam::sim::SimRun benchRun() {
 
 void BM_EkfStepWithRange(benchmark::State& state) {
   static const roam::sim::SimRun run = benchRun();
-  roam::EkfConfig config;
+  roam::ekf::EkfConfig config;
   config.anchor = "beacons";  // all 4 beacons in the state from the start
-  auto ekf = std::make_unique<roam::EkfSlam>(config);
+  auto ekf = std::make_unique<roam::ekf::EkfSlam>(config);
   ekf->setInitialPose(run.start);
   ekf->setBeacons(run.beacons);
   size_t k = 0, r = 0;
   for (auto _ : state) {
     if (k == run.odometry.size()) {
       state.PauseTiming();
-      ekf = std::make_unique<roam::EkfSlam>(config);
+      ekf = std::make_unique<roam::ekf::EkfSlam>(config);
       ekf->setInitialPose(run.start);
       ekf->setBeacons(run.beacons);
       k = r = 0;

@@ -7,6 +7,7 @@
 #include "ekf_filter.hpp"
 
 namespace roam {
+namespace ekf {
 namespace {
 
 constexpr double kExact = 1e-12;
@@ -121,4 +122,5 @@ TEST(EkfConfig, ChiSquareQuantiles) {
 }
 
 }  // namespace
+}  // namespace ekf
 }  // namespace roam

@@ -11,6 +11,7 @@
 #include "sim.hpp"
 
 namespace roam {
+namespace ekf {
 namespace {
 
 constexpr double kRecoveryTolerance_m = 1e-6;  // the noise-free bound
@@ -401,4 +402,5 @@ TEST(EkfConfig, BadValuesNameTheKey) {
 }
 
 }  // namespace
+}  // namespace ekf
 }  // namespace roam

@@ -69,6 +69,60 @@ TEST(Multilateration, RobustHoldsThirtyPercentLongOutliers) {
   EXPECT_NEAR(robust.inliers, 200 - outliers, 5);
 }
 
+TEST(MultilaterationConsensus, ExactOnNoiseFreeRangesAndRefusesBadInput) {
+  // Noise-free: every range agrees with the beacon; off a line the refined point is exact.
+  const std::array<double, 2> beacon{12.5, -7.25};
+  std::vector<std::array<double, 2>> positions{{0, 0}, {10, 0}, {0, 10}, {-5, 3}, {7, 8}};
+  std::vector<double> ranges, tolerance(positions.size(), 0.5);
+  for (const auto& p : positions) ranges.push_back(std::hypot(beacon[0] - p[0], beacon[1] - p[1]));
+  ConsensusMultilateration result;
+  ASSERT_TRUE(multilaterateConsensus(positions, ranges, tolerance, &result));
+  EXPECT_NEAR(result.point_m[0], beacon[0], 1e-6);
+  EXPECT_NEAR(result.point_m[1], beacon[1], 1e-6);
+  EXPECT_EQ(result.inliers, 5);
+  EXPECT_FALSE(multilaterateConsensus({{0, 0}}, {1.0}, {0.5}, &result));
+  EXPECT_FALSE(multilaterateConsensus(positions, ranges, {0.5}, &result));
+}
+
+TEST(MultilaterationConsensus, HoldsWithFortyPercentOfRangesArbitrarilyWrong) {
+  // 40 % of the ranges are off by -150..+100 m (an AUV's acoustic echoes), 60 % have 2 m noise:
+  // the consensus point is within 1.5 m and names the wrong ones; the linear one is > 2 m off.
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 2.0);
+  std::uniform_real_distribution<double> wild(-150.0, 100.0), angle(0.0, 2.0 * M_PI);
+  const std::array<double, 2> beacon{40.0, -120.0};
+  std::vector<std::array<double, 2>> positions;
+  std::vector<double> ranges, tolerance;
+  std::vector<bool> outlier;
+  for (int i = 0; i < 40; ++i) {
+    const double a = angle(rng);
+    positions.push_back({150.0 * std::cos(a), 100.0 * std::sin(a)});
+    const double truth = std::hypot(beacon[0] - positions.back()[0], beacon[1] - positions.back()[1]);
+    outlier.push_back(i % 5 < 2);
+    ranges.push_back(outlier.back() ? std::max(1.0, truth + wild(rng)) : truth + noise(rng));
+    tolerance.push_back(3.0 * 2.0);
+  }
+  ConsensusMultilateration result;
+  ASSERT_TRUE(multilaterateConsensus(positions, ranges, tolerance, &result));
+  EXPECT_LT(std::hypot(result.point_m[0] - beacon[0], result.point_m[1] - beacon[1]), 1.5);
+  int wrongly_kept = 0, good_dropped = 0;
+  for (size_t i = 0; i < outlier.size(); ++i) {
+    wrongly_kept += outlier[i] && result.inlier[i];
+    good_dropped += !outlier[i] && !result.inlier[i];
+  }
+  EXPECT_LE(wrongly_kept, 2);
+  EXPECT_EQ(good_dropped, 0);
+  std::array<double, 2> linear{};
+  ASSERT_TRUE(multilaterateLinear(positions, ranges, &linear));
+  EXPECT_GT(std::hypot(linear[0] - beacon[0], linear[1] - beacon[1]), 2.0);
+  ConsensusMultilateration again;  // bit-identical with sampled pairs too
+  ASSERT_TRUE(multilaterateConsensus(positions, ranges, tolerance, &again, 50));
+  ConsensusMultilateration again2;
+  ASSERT_TRUE(multilaterateConsensus(positions, ranges, tolerance, &again2, 50));
+  EXPECT_EQ(again.point_m, again2.point_m);
+  EXPECT_LT(std::hypot(again.point_m[0] - beacon[0], again.point_m[1] - beacon[1]), 1.5);
+}
+
 }  // namespace
 }  // namespace estimation
 }  // namespace roam

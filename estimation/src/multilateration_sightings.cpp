@@ -1,10 +1,11 @@
-#include "multilateration.hpp"
+#include "roam/estimation/multilateration.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace roam {
+namespace estimation {
 namespace {
 
 // Unknowns: (mx, my) or (mx, my, scale, offset): at most 4, so no heap allocation.
@@ -205,4 +206,5 @@ MultilaterationResult multilaterate(const std::vector<Sighting>& s, const RangeB
   return result;
 }
 
+}  // namespace estimation
 }  // namespace roam

@@ -4,9 +4,10 @@
 #include <cmath>
 #include <vector>
 
-#include "multilateration.hpp"
+#include "roam/estimation/multilateration.hpp"
 
 namespace roam {
+namespace estimation {
 namespace {
 
 constexpr double kExact_m = 1e-8;
@@ -99,4 +100,5 @@ TEST(Multilateration, GeometryGates) {
 }
 
 }  // namespace
+}  // namespace estimation
 }  // namespace roam
