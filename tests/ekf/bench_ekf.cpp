@@ -27,7 +27,7 @@ roam::sim::SimRun benchRun() {
 void BM_EkfStepWithRange(benchmark::State& state) {
   static const roam::sim::SimRun run = benchRun();
   roam::EkfConfig config;
-  config.anchor = "beacons";  // all 4 beacons in the state from the start
+  config.anchor = roam::EkfConfig::Anchor::kBeacons;  // all 4 beacons in the state from the start
   auto ekf = std::make_unique<roam::EkfSlam>(config);
   ekf->setInitialPose(run.start);
   ekf->setBeacons(run.beacons);

@@ -146,7 +146,7 @@ TEST(EkfCalibration, AuvSparseOutliersBeaconsBeatDeadReckoningAndRepeat) {
   // 204-206 of the same run still diverge (75, 21, 143 m against 18, 8, 17 m), see the README.
   const sim::SimRun run = sim::simulate(sim::auvLikeWorld(203, 500));
   EkfConfig config;
-  config.anchor = "beacons";
+  config.anchor = EkfConfig::Anchor::kBeacons;
   EkfSlam ekf(config), again(config);
   test::feed(run, ekf);
   test::feed(run, again);
