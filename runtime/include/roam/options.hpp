@@ -133,4 +133,13 @@ void checkConfig(const Config& config, Declare&& declare) {
   }
 }
 
+// Sets `values` on `config` through the same declaration (as a config section would), e.g. in a
+// test: setOptions(&config, addXOptions, {{"loss", "cauchy"}}). Throws ConfigError.
+template <typename Config, typename Declare>
+void setOptions(Config* config, Declare&& declare, KeyValues values) {
+  Options options(std::move(values));
+  declare(options, config);
+  options.parse();
+}
+
 }  // namespace roam
