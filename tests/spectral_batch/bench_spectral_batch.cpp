@@ -33,7 +33,7 @@ const roam::Dataset& plazaSized() {
 void solve(benchmark::State& state, const char* init) {
   const roam::Dataset& data = plazaSized();
   roam::SpectralBatchConfig config;
-  config.init = init;
+  roam::setOptions(&config, roam::addSpectralBatchOptions, {{"init", init}});
   double error_m = 0.0;
   for (auto _ : state) {
     roam::SpectralBatchSlam slam(config);
