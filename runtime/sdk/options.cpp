@@ -94,6 +94,12 @@ Options::Option& Options::Option::oneOf(std::initializer_list<int> choices) {
   return oneOf(names);
 }
 
+Options::Option& Options::Option::nonEmpty() {
+  auto print = print_;
+  checks_.push_back([print]() -> std::string { return print().empty() ? "a non-empty value" : ""; });
+  return *this;
+}
+
 Options::Option& Options::addNamed(const std::string& key, const std::string& help,
                                    std::vector<std::string> names, std::function<void(size_t)> set,
                                    std::function<int()> get) {
@@ -274,6 +280,12 @@ void Options::parse() {
 
 bool Options::given(const std::string& key) const {
   return std::find(given_.begin(), given_.end(), key) != given_.end();
+}
+
+std::vector<std::string> Options::keys() const {
+  std::vector<std::string> out;
+  for (const auto& option : options_) out.push_back(option->key_);
+  return out;
 }
 
 KeyValues Options::effective() const {

@@ -20,7 +20,6 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
-#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -50,6 +49,7 @@ class Options {
     Option& max(double upper, bool inclusive = true);
     Option& oneOf(std::vector<std::string> choices);
     Option& oneOf(std::initializer_list<int> choices);
+    Option& nonEmpty();  // a string that may not be ""
 
    private:
     friend class Options;
@@ -72,9 +72,9 @@ class Options {
   Option& add(const std::string& key, int* target, const std::string& help);
   Option& add(const std::string& key, bool* target, const std::string& help);
   Option& add(const std::string& key, std::string* target, const std::string& help);
-  // An enum option: the config gives one of the names, the target holds its value, and
-  // effective() prints the name.
-  template <typename Enum, typename = std::enable_if_t<std::is_enum_v<Enum>>>
+  // An enum option (or any value with a name table, e.g. a bool spelt none | process): the
+  // config gives one of the names, the target holds its value, and effective() prints the name.
+  template <typename Enum>
   Option& add(const std::string& key, Enum* target, Names<Enum> names, const std::string& help) {
     std::vector<std::string> labels;
     for (const auto& entry : names) labels.push_back(entry.first);
@@ -96,6 +96,8 @@ class Options {
   void parse();
   // True if the key was given in the config (after parse()).
   bool given(const std::string& key) const;
+  // The keys declared so far, in the order added.
+  std::vector<std::string> keys() const;
   // Every option as key = value (defaults included), in the order added, as they were at the
   // end of parse() (the targets may be gone by the time this is asked).
   KeyValues effective() const;
