@@ -8,7 +8,7 @@ namespace roam {
 namespace ekf {
 
 void addEkfOptions(Options& o, EkfConfig* c) {
-  o.add("anchor", &c->anchor, "start_pose | beacons").oneOf({"start_pose", "beacons"});
+  o.add("anchor", &c->anchor, {{"start_pose", EkfConfig::Anchor::kStartPose}, {"beacons", EkfConfig::Anchor::kBeacons}}, "start_pose | beacons");
   o.add("beacon_sigma_m", &c->beacon_sigma_m, "anchor = beacons: surveyed position sigma per axis").min(0.0, false);
   o.add("start_sigma_m", &c->start_sigma_m, "anchor = beacons: start position sigma").min(0.0);
   o.add("start_heading_sigma_rad", &c->start_heading_sigma_rad, "anchor = beacons: start heading sigma").min(0.0);
@@ -31,7 +31,7 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("range_noise_max_scale", &c->range_noise_max_scale, "largest factor on the range variance when the NIS says the sigma is too small (1: off)").min(1.0);
   o.add("range_sigma_m", &c->range_sigma_m, "range noise sigma when a range carries none").min(0.0, false);
   o.add("bearing_sigma_rad", &c->bearing_sigma_rad, "bearing noise sigma").min(0.0, false);
-  o.add("range_bias", &c->range_bias, "none | shared (estimated range scale and offset)").oneOf({"none", "shared"});
+  o.add("range_bias", &c->range_bias, {{"none", EkfConfig::RangeBias::kNone}, {"shared", EkfConfig::RangeBias::kShared}}, "none | shared (estimated range scale and offset)");
   o.add("range_scale_sigma", &c->range_scale_sigma, "prior sigma of the range scale (mean 1)").min(0.0, false);
   o.add("range_offset_sigma_m", &c->range_offset_sigma_m, "prior sigma of the range offset (mean 0)").min(0.0, false);
   o.add("range_huber_k", &c->range_huber_k, "Huber threshold of the range update in innovation sigmas (0: off)").min(0.0);
@@ -44,41 +44,8 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("init_max_ranges", &c->init_max_ranges, "ranges buffered per pending beacon").min(3);
   o.add("init_window_s", &c->init_window_s, "buffered ranges older than this are dropped").min(0.0, false);
   o.add("init_prior_inflation", &c->init_prior_inflation, "batch covariance inflation before re-applying the ranges").min(1.0, false);
-}
-
-void validate(const EkfConfig& c) {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("ekf config: expected " + what); };
-  if (c.anchor != "start_pose" && c.anchor != "beacons") fail("anchor = start_pose | beacons, got '" + c.anchor + "'");
-  if (c.range_bias != "none" && c.range_bias != "shared") fail("range_bias = none | shared, got '" + c.range_bias + "'");
-  if (!(c.beacon_sigma_m > 0.0)) fail("beacon_sigma_m > 0");
-  if (!(c.range_sigma_m > 0.0)) fail("range_sigma_m > 0");
-  if (!(c.bearing_sigma_rad > 0.0)) fail("bearing_sigma_rad > 0");
-  if (!(c.range_scale_sigma > 0.0)) fail("range_scale_sigma > 0");
-  if (!(c.range_offset_sigma_m > 0.0)) fail("range_offset_sigma_m > 0");
-  if (!(c.start_sigma_m >= 0.0) || !(c.start_heading_sigma_rad >= 0.0)) fail("start sigmas >= 0");
-  if (!(c.odo_distance_sigma_rel >= 0.0) || !(c.odo_distance_sigma_m >= 0.0) ||
-      !(c.odo_heading_sigma_rel >= 0.0) || !(c.odo_heading_sigma_per_sqrt_m >= 0.0) ||
-      !(c.odo_heading_sigma_rad >= 0.0))
-    fail("odometry sigmas >= 0");
-  if (!(c.odo_scale_sigma > 0.0) || !(c.gyro_bias_sigma_rad_s > 0.0)) fail("odo_scale_sigma, gyro_bias_sigma_rad_s > 0");
-  if (!(c.gyro_bias_walk_rad_s_per_sqrt_s >= 0.0)) fail("gyro_bias_walk_rad_s_per_sqrt_s >= 0");
-  if (!(c.calib_rerun_fraction >= 0.0 && c.calib_rerun_fraction <= 1.0)) fail("calib_rerun_fraction in [0, 1]");
-  if (!(c.gyro_bias_max_drift_rad >= 0.0)) fail("gyro_bias_max_drift_rad >= 0");
-  if (!(c.stationary_speed_mps >= 0.0)) fail("stationary_speed_mps >= 0");
-  if (c.stationary_min_steps < 1) fail("stationary_min_steps >= 1");
-  if (!(c.motion_noise_max_scale >= 1.0)) fail("motion_noise_max_scale >= 1");
-  if (!(c.motion_noise_decay > 0.0 && c.motion_noise_decay <= 1.0)) fail("motion_noise_decay in (0, 1]");
-  if (!(c.range_huber_k >= 0.0)) fail("range_huber_k >= 0");
-  if (c.recover_after_gated < 0) fail("recover_after_gated >= 0");
-  if (!(c.gate_probability > 0.0 && c.gate_probability <= 1.0)) fail("gate_probability in (0, 1]");
-  if (c.init_min_ranges < 3) fail("init_min_ranges >= 3");
-  if (c.init_max_ranges < c.init_min_ranges) fail("init_max_ranges >= init_min_ranges");
-  if (!(c.init_min_baseline_m >= 0.0)) fail("init_min_baseline_m >= 0");
-  if (!(c.init_max_sigma_m > 0.0)) fail("init_max_sigma_m > 0");
-  if (!(c.init_min_angle_rad >= 0.0 && c.init_min_angle_rad <= M_PI)) fail("init_min_angle_rad in [0, pi]");
-  if (!(c.init_mirror_chi2 >= 0.0)) fail("init_mirror_chi2 >= 0");
-  if (!(c.init_window_s > 0.0)) fail("init_window_s > 0");
-  if (!(c.init_prior_inflation > 1.0)) fail("init_prior_inflation > 1");
+  o.require([c] { return c->init_max_ranges >= c->init_min_ranges; }, {"init_max_ranges", "init_min_ranges"},
+            "init_max_ranges >= init_min_ranges");
 }
 
 double chiSquareQuantile(int dof, double probability) {

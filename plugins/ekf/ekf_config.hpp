@@ -1,17 +1,18 @@
 // Configuration of the ekf plugin, with the reasoning behind each default (see README.md).
 #pragma once
 
-#include <string>
-
 #include "roam/options.hpp"
 
 namespace roam {
 namespace ekf {
 
 struct EkfConfig {
-  // "start_pose": the INITIAL_POSE is exact and every beacon is initialised from ranges;
-  // "beacons": the BEACONS message gives a prior on each beacon (sigma beacon_sigma_m).
-  std::string anchor = "start_pose";
+  // start_pose: the INITIAL_POSE is exact and every beacon is initialised from ranges;
+  // beacons: the BEACONS message gives a prior on each beacon (sigma beacon_sigma_m).
+  enum class Anchor { kStartPose, kBeacons };
+  // none: ranges are unbiased; shared: one range scale and offset for all beacons, estimated.
+  enum class RangeBias { kNone, kShared };
+  Anchor anchor = Anchor::kStartPose;
   double beacon_sigma_m = 0.1;             // surveyed beacon position, 1 sigma per axis
   double start_sigma_m = 0.5;              // anchor = beacons: prior on the start position
   double start_heading_sigma_rad = 0.05;   // anchor = beacons: prior on the start heading
@@ -48,8 +49,7 @@ struct EkfConfig {
   // Range noise: max(the message's sigma, range_sigma_m) (a stated sigma is a floor, not truth).
   double range_sigma_m = 0.5;
   double bearing_sigma_rad = 0.05;         // used for range-bearing measurements
-  // "none" | "shared": one range scale and offset for all beacons, estimated.
-  std::string range_bias = "shared";
+  RangeBias range_bias = RangeBias::kShared;
   double range_scale_sigma = 0.1;          // prior on the scale (mean 1)
   double range_offset_sigma_m = 0.5;       // prior on the offset (mean 0)
 
@@ -77,11 +77,9 @@ struct EkfConfig {
   double init_prior_inflation = 100.0;     // batch covariance x this = prior before re-applying
 };
 
-// Registers every key of the [estimator.*] section with its checks (the shim calls parse()).
+// Registers every key of the [estimator.*] section with its checks (the shim calls parse();
+// EkfSlam runs the same checks on a struct with checkConfig): the only validator.
 void addEkfOptions(Options& options, EkfConfig* config);
-
-// Throws std::invalid_argument naming the first broken constraint (for direct construction).
-void validate(const EkfConfig& config);
 
 // Chi-square quantile for dof = 1 or 2 at the given probability (infinity for probability 1).
 double chiSquareQuantile(int dof, double probability);

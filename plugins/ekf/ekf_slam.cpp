@@ -11,7 +11,7 @@ namespace roam {
 namespace ekf {
 
 EkfSlam::EkfSlam(const EkfConfig& config) : config_(config) {
-  validate(config_);
+  checkConfig(config_, addEkfOptions);
   init_config_.min_ranges = config_.init_min_ranges;
   init_config_.min_baseline_m = config_.init_min_baseline_m;
   init_config_.max_sigma_m = config_.init_max_sigma_m;
@@ -23,17 +23,17 @@ EkfSlam::EkfSlam(const EkfConfig& config) : config_(config) {
 
 void EkfSlam::start(const Pose& pose) {
   Eigen::Matrix3d pose_cov = Eigen::Matrix3d::Zero();
-  if (config_.anchor == "beacons") {
+  if (config_.anchor == EkfConfig::Anchor::kBeacons) {
     const double var_m2 = config_.start_sigma_m * config_.start_sigma_m;
     pose_cov.diagonal() << var_m2, var_m2, config_.start_heading_sigma_rad * config_.start_heading_sigma_rad;
   }
   filter_.reset(Eigen::Vector3d(pose.x_m, pose.y_m, pose.heading_rad), pose_cov,
-                config_.range_bias == "shared", config_.range_scale_sigma,
+                config_.range_bias == EkfConfig::RangeBias::kShared, config_.range_scale_sigma,
                 config_.range_offset_sigma_m, calibrationPrior());
   started_ = true;
   bias_undecided_ = config_.estimate_odometry_calibration && config_.gyro_bias_max_drift_rad > 0.0;
   if (bias_undecided_) filter_.fixHeadingRateBias();
-  calib_rerun_pending_ = config_.estimate_odometry_calibration && config_.anchor == "start_pose" &&
+  calib_rerun_pending_ = config_.estimate_odometry_calibration && config_.anchor == EkfConfig::Anchor::kStartPose &&
                          config_.calib_rerun_fraction > 0.0;
   state_utime_ = pose.utime;
   insertSurveyed();
@@ -48,7 +48,7 @@ EkfFilter::CalibrationPrior EkfSlam::calibrationPrior() const {
   // Gauge: from the start pose alone, scaling the world by k (odometry scale x k, range scale
   // / k) explains the same data, so with an estimated range scale the odometry scale is held at
   // 1 (variance 0) and the range scale carries the ratio; beacons (or range_bias = none) fix it.
-  const bool scale_observable = config_.anchor == "beacons" || config_.range_bias == "none";
+  const bool scale_observable = config_.anchor == EkfConfig::Anchor::kBeacons || config_.range_bias == EkfConfig::RangeBias::kNone;
   prior.distance_scale_sigma = scale_observable ? config_.odo_scale_sigma : 0.0;
   prior.heading_rate_bias_sigma_rad_s = config_.gyro_bias_sigma_rad_s;
   return prior;
@@ -63,13 +63,13 @@ void EkfSlam::setInitialPose(const Pose& start_pose) {
 }
 
 void EkfSlam::setBeacons(const Map& surveyed) {
-  if (config_.anchor != "beacons") return;  // start_pose: surveyed positions are not used
+  if (config_.anchor != EkfConfig::Anchor::kBeacons) return;  // start_pose: surveyed positions are not used
   surveyed_ = surveyed;
   if (started_) insertSurveyed();
 }
 
 void EkfSlam::insertSurveyed() {
-  if (config_.anchor != "beacons") return;
+  if (config_.anchor != EkfConfig::Anchor::kBeacons) return;
   const double var_m2 = config_.beacon_sigma_m * config_.beacon_sigma_m;
   for (const Beacon& beacon : surveyed_) {
     if (filter_.hasBeacon(beacon.id)) continue;

@@ -10,7 +10,7 @@ namespace roam {
 
 void MotionModel::setControl(const Odometry& odometry, double dt_s,
                              const estimation::OdometryCalibration& calibration) {
-  bicycle_ = config_.motion_model == "bicycle";
+  bicycle_ = config_.motion_model == OnlineEmConfig::MotionModel::kBicycle;
   const double distance_m = odometry.forward_m, dheading_rad = odometry.delta_heading_rad;
   distance_m_ = distance_m;
   dheading_rad_ = dheading_rad;

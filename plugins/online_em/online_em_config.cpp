@@ -3,14 +3,17 @@
 namespace roam {
 
 void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
-  options.add("anchor", &c->anchor, "start_pose (known first pose) or beacons (surveyed prior)")
-      .oneOf(std::vector<std::string>{"start_pose", "beacons"});
+  using C = OnlineEmConfig;
+  options.add("anchor", &c->anchor, {{"start_pose", C::Anchor::kStartPose}, {"beacons", C::Anchor::kBeacons}},
+              "start_pose (known first pose) or beacons (surveyed prior)");
   options.add("num_particles", &c->num_particles, "particles for the pose").min(2);
   options.add("seed", &c->seed, "seed of the random number generator").min(0);
-  options.add("resampling", &c->resampling, "multinomial (Algorithm 1) or systematic")
-      .oneOf(std::vector<std::string>{"multinomial", "systematic"});
-  options.add("motion_model", &c->motion_model, "odometry (move then turn) or bicycle (paper 4.1)")
-      .oneOf(std::vector<std::string>{"odometry", "bicycle"});
+  options.add("resampling", &c->resampling,
+              {{"multinomial", C::Resampling::kMultinomial}, {"systematic", C::Resampling::kSystematic}},
+              "multinomial (Algorithm 1) or systematic");
+  options.add("motion_model", &c->motion_model,
+              {{"odometry", C::MotionModel::kOdometry}, {"bicycle", C::MotionModel::kBicycle}},
+              "odometry (move then turn) or bicycle (paper 4.1)");
   options.add("odo_distance_sigma_rel", &c->odo_distance_sigma_rel, "forward/lateral noise per metre")
       .min(0.0);
   options.add("odo_distance_sigma_m", &c->odo_distance_sigma_m, "forward/lateral noise floor per step")
@@ -42,8 +45,8 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
   options.add("bearing_sigma_rad", &c->bearing_sigma_rad, "bearing standard deviation in R")
       .min(0.0, false);
   options.add("range_bearing_cov", &c->range_bearing_cov, "off-diagonal of R");
-  options.add("indicators", &c->indicators, "sampled (Algorithm 1) or marginal (Rao-Blackwellised)")
-      .oneOf(std::vector<std::string>{"sampled", "marginal"});
+  options.add("indicators", &c->indicators, {{"sampled", C::Indicators::kSampled}, {"marginal", C::Indicators::kMarginal}},
+              "sampled (Algorithm 1) or marginal (Rao-Blackwellised)");
   options.add("step_c", &c->step_c, "step size gamma_n = c / n^alpha").min(0.0, false).max(1.0);
   options.add("step_alpha", &c->step_alpha, "step size exponent, in (0.5, 1]").min(0.5, false).max(1.0);
   options.add("mstep_every", &c->mstep_every, "M-step every k observing steps").min(1);
@@ -61,28 +64,13 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
   options.add("init_min_spread_fraction", &c->init_min_spread_fraction,
               "spread of the ranging positions as a fraction of the median range").min(0.0);
   options.add("init_min_spread_m", &c->init_min_spread_m, "spread of the ranging positions").min(0.0);
-}
-
-std::string validate(const OnlineEmConfig& c) {
-  if (c.anchor != "start_pose" && c.anchor != "beacons") return "anchor is start_pose or beacons";
-  if (c.motion_model != "odometry" && c.motion_model != "bicycle") return "motion_model is odometry or bicycle";
-  if (c.resampling != "multinomial" && c.resampling != "systematic") return "resampling is multinomial or systematic";
-  if (c.indicators != "sampled" && c.indicators != "marginal") return "indicators is sampled or marginal";
-  if (c.num_particles < 2) return "num_particles >= 2";
-  if (c.seed < 0) return "seed >= 0";
-  if (!(c.step_alpha > 0.5 && c.step_alpha <= 1.0)) return "step_alpha in (0.5, 1]";
-  if (!(c.step_c > 0.0 && c.step_c <= 1.0)) return "step_c in (0, 1]";
-  if (!(c.mixture_weight0 > 0.0 && c.mixture_weight0 <= 1.0)) return "mixture_weight0 in (0, 1]";
-  if (!(c.mixture_sigma0 > 0.0 && c.mixture_sigma1 > 0.0)) return "mixture_sigma0, mixture_sigma1 > 0";
-  if (!(c.range_sigma_m > 0.0 && c.bearing_sigma_rad > 0.0)) return "range_sigma_m, bearing_sigma_rad > 0";
-  if (c.range_bearing_cov * c.range_bearing_cov >=
-      c.range_sigma_m * c.range_sigma_m * c.bearing_sigma_rad * c.bearing_sigma_rad)
-    return "range_bearing_cov^2 < (range_sigma_m * bearing_sigma_rad)^2 (R positive definite)";
-  if (!(c.odo_distance_sigma_m > 0.0 && c.odo_heading_sigma_rad > 0.0))
-    return "odo_distance_sigma_m, odo_heading_sigma_rad > 0";
-  if (c.init_min_ranges < 3) return "init_min_ranges >= 3";
-  if (c.mstep_every < 1) return "mstep_every >= 1";
-  return "";
+  options.require(
+      [c] {
+        return c->range_bearing_cov * c->range_bearing_cov <
+               c->range_sigma_m * c->range_sigma_m * c->bearing_sigma_rad * c->bearing_sigma_rad;
+      },
+      {"range_bearing_cov", "range_sigma_m", "bearing_sigma_rad"},
+      "range_bearing_cov^2 < (range_sigma_m * bearing_sigma_rad)^2 (R positive definite)");
 }
 
 }  // namespace roam

@@ -3,31 +3,33 @@
 // the plugin shim, the tools and the tests share it so that a key has one definition.
 #pragma once
 
-#include <cstdint>
-#include <string>
-
 #include "roam/options.hpp"
 
 namespace roam {
 
 struct OnlineEmConfig {
-  // Frame: "start_pose" (known first pose, beacons unknown: multilateration) or "beacons"
+  enum class Anchor { kStartPose, kBeacons };
+  enum class Resampling { kMultinomial, kSystematic };
+  enum class MotionModel { kOdometry, kBicycle };
+  enum class Indicators { kSampled, kMarginal };
+
+  // Frame: start_pose (known first pose, beacons unknown: multilateration) or beacons
   // (surveyed BEACONS enter the M-step as a prior, as pseudo-observations).
-  std::string anchor = "start_pose";
+  Anchor anchor = Anchor::kStartPose;
   int num_particles = 100;  // the paper's N
   int seed = 1;             // std::mt19937_64 seed: the same input gives the same output
 
-  // Ancestor draw each step: "multinomial" (Algorithm 1: J^l ~ {w_{t-1}^j}, independently) or
-  // "systematic" (one uniform, stratified: same expectation, less resampling noise; with equal
+  // Ancestor draw each step: multinomial (Algorithm 1: J^l ~ {w_{t-1}^j}, independently) or
+  // systematic (one uniform, stratified: same expectation, less resampling noise; with equal
   // weights every particle keeps exactly one child, so steps without ranges lose no diversity).
   // Default systematic: on the seeded synthetic runs of tests/online_em with the exact map it
   // halves the path error of 100 particles (0.59 -> 0.31 m); multinomial is the paper's choice.
-  std::string resampling = "systematic";
+  Resampling resampling = Resampling::kSystematic;
 
-  // Motion model. "odometry": move then turn with (d, dtheta) plus noise in the frame of the
-  // previous pose (forward, lateral, heading). "bicycle": the paper's Sec. 4.1 model, controls
+  // Motion model. odometry: move then turn with (d, dtheta) plus noise in the frame of the
+  // previous pose (forward, lateral, heading). bicycle: the paper's Sec. 4.1 model, controls
   // (v, psi) with wheelbase B recovered from (d, dtheta) = (v dt, v dt sin(psi) / B).
-  std::string motion_model = "odometry";
+  MotionModel motion_model = MotionModel::kOdometry;
   // Odometry noise, per step: sigma_forward = rel * d + abs, sigma_lateral = rel * d + abs,
   // sigma_heading = heading_sigma_rad. Defaults: wheel odometry of a lawn-mower-class robot:
   // 2 % of distance (slip), 1 mm floor (keeps the transition density non-degenerate when the
@@ -85,13 +87,13 @@ struct OnlineEmConfig {
   double range_sigma_m = 0.5;
   double bearing_sigma_rad = 0.05235987755982988;  // pi / 60
   double range_bearing_cov = 0.01;
-  // Mixture indicators: "sampled" (Algorithm 1: I ~ Bernoulli(w1) per particle, the weight and
-  // the statistic use the sampled component) or "marginal" (Rao-Blackwellised: the weight uses
+  // Mixture indicators: sampled (Algorithm 1: I ~ Bernoulli(w1) per particle, the weight and
+  // the statistic use the sampled component) or marginal (Rao-Blackwellised: the weight uses
   // the mixture likelihood, the statistic the posterior probabilities of the two components).
   // Default marginal: with sampled indicators only ~20 % of the particles carry the wide
   // component for a given outlier and the weights collapse onto them (30 % NLOS synthetic:
   // beacon anchor: minimum ESS 4 of 100 with sampled, 51 with marginal).
-  std::string indicators = "marginal";
+  Indicators indicators = Indicators::kMarginal;
 
   // Stochastic approximation: gamma_n = c / n^alpha per landmark, n = its own observation count.
   double step_c = 1.0;
@@ -130,10 +132,8 @@ struct OnlineEmConfig {
   double init_outlier_gate_sigmas = 3.0;
 };
 
-// Registers every key (with its check) on `options`, bound to `config`.
+// Registers every key (with its check) on `options`, bound to `config`: the only validator
+// (OnlineEmSlam runs the same checks on a struct with checkConfig).
 void addOnlineEmOptions(Options& options, OnlineEmConfig* config);
-
-// "" if the config is usable, else the broken constraint ("num_particles >= 2").
-std::string validate(const OnlineEmConfig& config);
 
 }  // namespace roam

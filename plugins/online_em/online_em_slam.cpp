@@ -34,8 +34,7 @@ Eigen::ArrayXd normalise(const Eigen::ArrayXd& log_weight, bool* degenerate) {
 OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
     : config_(config), motion_(config_), observation_(config_),
       rng_(static_cast<uint64_t>(config.seed)) {
-  const std::string problem = validate(config_);
-  if (!problem.empty()) throw ConfigError("", "online_em: " + problem);
+  checkConfig(config_, addOnlineEmOptions);
   const int n = config_.num_particles;
   particles_.resize(n);
   previous_.resize(n);
@@ -45,8 +44,8 @@ OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
   previous_weights_ = weights_;
   statistics_.resize(n, 0);
   calibration_statistics_ = Eigen::MatrixXd::Zero(n, 2);
-  recording_ = config_.calibrated_rerun && config_.calibrate_odometry && config_.anchor == "start_pose" &&
-               config_.motion_model == "odometry";
+  recording_ = config_.calibrated_rerun && config_.calibrate_odometry && config_.anchor == OnlineEmConfig::Anchor::kStartPose &&
+               config_.motion_model == OnlineEmConfig::MotionModel::kOdometry;
   setDiagnostic("num_particles", n);
 }
 
@@ -68,7 +67,7 @@ void OnlineEmSlam::setInitialPose(const Pose& start_pose) {
 }
 
 void OnlineEmSlam::setBeacons(const Map& surveyed) {
-  if (config_.anchor != "beacons") return;
+  if (config_.anchor != OnlineEmConfig::Anchor::kBeacons) return;
   for (const Beacon& beacon : surveyed) {
     Landmark& landmark = landmarks_[landmarkIndex(beacon.id)];
     Eigen::Matrix2d covariance;
@@ -117,7 +116,7 @@ void OnlineEmSlam::resample() {
   double sum = 0.0;
   for (int j = 0; j < n; ++j) cumulative[j] = (sum += previous_weights_[j]);
   std::uniform_real_distribution<double> uniform(0.0, sum);
-  const bool systematic = config_.resampling == "systematic";
+  const bool systematic = config_.resampling == OnlineEmConfig::Resampling::kSystematic;
   const double offset = systematic ? uniform(rng_) / n : 0.0;
   for (int l = 0; l < n; ++l) {
     const double u = systematic ? offset + sum * l / n : uniform(rng_);
@@ -205,7 +204,7 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
       continue;
     }
     const Eigen::Vector4d phi_i = phi(i);
-    if (config_.indicators == "sampled") {
+    if (config_.indicators == OnlineEmConfig::Indicators::kSampled) {
       obs.component.resize(n);
       for (int k = 0; k < n; ++k) {
         obs.component[k] = wide(rng_) ? 1 : 0;
@@ -248,7 +247,7 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
 }
 
 void OnlineEmSlam::smoothStatistics(std::vector<StepObservation>& observations) {
-  const bool calibrate = config_.calibrate_odometry && config_.motion_model == "odometry" && !replaying_;
+  const bool calibrate = config_.calibrate_odometry && config_.motion_model == OnlineEmConfig::MotionModel::kOdometry && !replaying_;
   if (statistics_.cols() == 0 && !calibrate) return;
   const int n = config_.num_particles;
   // K_kl ∝ w_{t-1}^l m(xi_t^k | xi_{t-1}^l), rows normalised.
@@ -438,7 +437,7 @@ void OnlineEmSlam::mStep() {
 }
 
 void OnlineEmSlam::calibrationMStep() {
-  if (!config_.calibrate_odometry || config_.motion_model != "odometry" || motion_steps_ == 0 || replaying_) return;
+  if (!config_.calibrate_odometry || config_.motion_model != OnlineEmConfig::MotionModel::kOdometry || motion_steps_ == 0 || replaying_) return;
   const double n = static_cast<double>(motion_steps_);
   const double ps = 1.0 / (config_.distance_scale_prior_sigma * config_.distance_scale_prior_sigma);
   const double pb = 1.0 / (config_.heading_rate_bias_prior_sigma_rad_s * config_.heading_rate_bias_prior_sigma_rad_s);
@@ -460,7 +459,7 @@ void OnlineEmSlam::calibrationMStep() {
 }
 
 void OnlineEmSlam::correctFrame() {
-  if (config_.anchor != "start_pose" || !config_.calibrate_odometry || config_.motion_model != "odometry" ||
+  if (config_.anchor != OnlineEmConfig::Anchor::kStartPose || !config_.calibrate_odometry || config_.motion_model != OnlineEmConfig::MotionModel::kOdometry ||
       window_open_ || window_odometry_.empty() || replaying_)
     return;
   // The window dead-reckoned from the start without and with the calibration.

@@ -86,7 +86,7 @@ namespace roam {
 
 class OnlineEmSlam : public Estimator {
  public:
-  // Throws ConfigError if validate(config) finds a broken constraint.
+  // Throws ConfigError naming the key if the config breaks a declared check (checkConfig).
   explicit OnlineEmSlam(const OnlineEmConfig& config);
 
   void setInitialPose(const Pose& start) override;

@@ -1,41 +1,45 @@
 #include "spectral_config.hpp"
 
-#include <cmath>
-#include <stdexcept>
-
 namespace roam {
 
-void SpectralConfig::validate() const {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("spectral: " + what); };
-  if (rank != 4 && rank != 7) fail("rank must be 4 or 7, got " + std::to_string(rank));
-  if (!(window_s > 0.0) || !std::isfinite(window_s)) fail("window_s must be > 0");
-  if (!(window_ranges_per_beacon >= 0.0) || !std::isfinite(window_ranges_per_beacon))
-    fail("window_ranges_per_beacon must be >= 0");
-  if (!(range_sigma_m > 0.0) || !std::isfinite(range_sigma_m)) fail("range_sigma_m must be > 0");
-  if (!(window_max_factor >= 1.0) || !std::isfinite(window_max_factor)) fail("window_max_factor must be >= 1");
-  if (!(window_overlap >= 0.0 && window_overlap < 1.0)) fail("window_overlap must be in [0, 1)");
-  if (!(gyro_bias_segment_s > 0.0)) fail("gyro_bias_segment_s must be > 0");
-  if (!(max_local_residual_sigma > 0.0)) fail("max_local_residual_sigma must be > 0");
-  if (!(max_residual_ratio >= 1.0)) fail("max_residual_ratio must be >= 1");
-  if (!(consistent_residual_ratio >= 0.0)) fail("consistent_residual_ratio must be >= 0");
-  if (window_retries < 0) fail("window_retries must be >= 0");
-  if (min_ranges_per_window < 4)
-    fail("min_ranges_per_window must be >= 4 (the model has 4 parameters)");
-  if (!(interpolation_rcond >= 0.0 && interpolation_rcond < 1.0))
-    fail("interpolation_rcond must be in [0, 1)");
-  if (!(align_m > 0.0) || !std::isfinite(align_m)) fail("align_m must be > 0");
-}
-
-SpectralAnchor parseSpectralAnchor(const std::string& text) {
-  if (text == "beacons") return SpectralAnchor::kBeacons;
-  if (text == "start_pose") return SpectralAnchor::kStartPose;
-  throw std::invalid_argument("spectral: anchor must be beacons | start_pose, got '" + text + "'");
-}
-
-SpectralMode parseSpectralMode(const std::string& text) {
-  if (text == "batch") return SpectralMode::kBatch;
-  if (text == "online") return SpectralMode::kOnline;
-  throw std::invalid_argument("spectral: mode must be batch | online, got '" + text + "'");
+void addSpectralOptions(Options& o, SpectralConfig* c) {
+  o.add("anchor", &c->anchor, {{"beacons", SpectralAnchor::kBeacons}, {"start_pose", SpectralAnchor::kStartPose}},
+        "frame anchor: surveyed beacons or the start pose");
+  o.add("rank", &c->rank, "4: positions; 7: positions and headings").oneOf({4, 7});
+  o.add("mode", &c->mode, {{"batch", SpectralMode::kBatch}, {"online", SpectralMode::kOnline}},
+        "batch (all at the end) or online (incremental SVD)");
+  o.add("window_s", &c->window_s, "interpolation window length (s); online latency")
+      .min(0.0, false);
+  o.add("window_ranges_per_beacon", &c->window_ranges_per_beacon,
+        "batch: grow the window to hold this many ranges of the least-ranged beacon (0: fixed)")
+      .min(0.0);
+  o.add("window_max_factor", &c->window_max_factor, "batch: the grown window is at most this x window_s")
+      .min(1.0);
+  o.add("window_overlap", &c->window_overlap, "fraction of a window shared with the next")
+      .min(0.0).max(1.0, false);
+  o.add("min_ranges_per_window", &c->min_ranges_per_window,
+        "fewest ranges to a beacon for a window to model it").min(4);
+  o.add("interpolation_rcond", &c->interpolation_rcond,
+        "relative singular-value cut-off of a window's regression").min(0.0).max(1.0, false);
+  o.add("robust_interpolation", &c->robust_interpolation,
+        "Tukey-weighted window fits (outlier ranges drop out); false: plain least squares");
+  o.add("range_sigma_m", &c->range_sigma_m, "range noise (m): the robust fit's Huber scale")
+      .min(0.0, false);
+  o.add("align_m", &c->align_m, "start_pose: metres of travel the path is aligned on")
+      .min(0.0, false);
+  o.add("calibrate_odometry", &c->calibrate_odometry,
+        "estimate the odometry distance scale and gyro bias against the solution, then solve again");
+  o.add("gyro_bias_segment_s", &c->gyro_bias_segment_s,
+        "calibrate_odometry: the gyro bias is constant over segments this long (s)").min(0.0, false);
+  o.add("max_local_residual_sigma", &c->max_local_residual_sigma,
+        "no solution if the windows' median range residual exceeds this x range_sigma_m").min(0.0, false);
+  o.add("window_retries", &c->window_retries,
+        "windows that do not fit the ranges are doubled and the solve repeated this many times").min(0);
+  o.add("max_residual_ratio", &c->max_residual_ratio,
+        "no solution if the solution's median range residual exceeds this x the windows'").min(1.0);
+  o.add("consistent_residual_ratio", &c->consistent_residual_ratio,
+        "a solution whose median range residual exceeds this x the windows' is solved again with "
+        "the window doubled (window_retries); the lowest residual is kept (0: off)").min(0.0);
 }
 
 }  // namespace roam

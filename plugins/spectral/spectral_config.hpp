@@ -1,10 +1,11 @@
 // Configuration of the spectral range-only SLAM core (Boots & Gordon, ICML 2013).
 //
 // Every default is argued from the sensors and the maths (see README/report), never searched
-// on a benchmark run. validate() throws std::invalid_argument naming the broken constraint.
+// on a benchmark run. addSpectralOptions() declares every key with its checks: the plugin shim
+// parses them, SpectralSlam checks a struct with them (checkConfig), so there is no other validator.
 #pragma once
 
-#include <string>
+#include "roam/options.hpp"
 
 namespace roam {
 
@@ -91,12 +92,9 @@ struct SpectralConfig {
   // ranges at 30 % give ~7 % of them); the solution's residual then sits 1.7-4x the windows'
   // (synthetic 30 % NLOS seeds), while consistent ones sit at 1.0-1.3x. 0: off (first pass taken).
   double consistent_residual_ratio = 1.5;
-
-  // Throws std::invalid_argument naming the field and what was expected.
-  void validate() const;
 };
 
-SpectralAnchor parseSpectralAnchor(const std::string& text);  // beacons | start_pose
-SpectralMode parseSpectralMode(const std::string& text);      // batch | online
+// Registers every key of the [estimator.*] section with its checks (the shim calls parse()).
+void addSpectralOptions(Options& options, SpectralConfig* config);
 
 }  // namespace roam

@@ -7,7 +7,7 @@
 
 namespace roam {
 
-SpectralSlam::SpectralSlam(const SpectralConfig& config) : config_(config) { config_.validate(); }
+SpectralSlam::SpectralSlam(const SpectralConfig& config) : config_(config) { checkConfig(config_, addSpectralOptions); }
 
 SpectralSlam::~SpectralSlam() = default;
 

@@ -33,7 +33,7 @@ class OnlineSpectral;
 
 class SpectralSlam : public Estimator {
  public:
-  // Throws std::invalid_argument if the config is invalid.
+  // Throws ConfigError naming the key if the config breaks a declared check.
   explicit SpectralSlam(const SpectralConfig& config);
   ~SpectralSlam() override;
 

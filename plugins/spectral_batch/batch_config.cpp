@@ -1,21 +1,20 @@
 #include "batch_config.hpp"
 
-#include <stdexcept>
-
 namespace roam {
 namespace spectral_batch {
 
 double effectiveLossScale(const SpectralBatchConfig& c) {
   if (c.loss_scale > 0.0) return c.loss_scale;
-  if (c.loss == "huber") return 1.345;
-  if (c.loss == "cauchy") return 2.385;
-  if (c.loss == "tukey") return 4.685;
+  if (c.loss == SpectralBatchConfig::Loss::kHuber) return 1.345;
+  if (c.loss == SpectralBatchConfig::Loss::kCauchy) return 2.385;
+  if (c.loss == SpectralBatchConfig::Loss::kTukey) return 4.685;
   return 1.0;  // none: unused
 }
 
 void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
-  o.add("init", &c->init, "initial guess: spectral | deadreckoning").oneOf({"spectral", "deadreckoning"});
-  o.add("anchor", &c->anchor, "gauge: start_pose | beacons").oneOf({"start_pose", "beacons"});
+  using C = SpectralBatchConfig;
+  o.add("init", &c->init, {{"spectral", C::Init::kSpectral}, {"deadreckoning", C::Init::kDeadReckoning}}, "initial guess: spectral | deadreckoning");
+  o.add("anchor", &c->anchor, {{"start_pose", C::Anchor::kStartPose}, {"beacons", C::Anchor::kBeacons}}, "gauge: start_pose | beacons");
   o.add("seed_heading_window_s", &c->seed_heading_window_s,
         "init = spectral: seed headings from position chords of this length (0: spectral headings)").min(0.0);
   o.add("seed_heading_align_m", &c->seed_heading_align_m,
@@ -27,8 +26,8 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
   o.add("odo_heading_sigma_per_sqrt_m", &c->odo_heading_sigma_per_sqrt_m, "heading random walk per sqrt(metre)").min(0.0);
   o.add("odo_heading_sigma_rad", &c->odo_heading_sigma_rad, "heading sigma floor per step").min(0.0, false);
   o.add("range_sigma_m", &c->range_sigma_m, "range noise sigma when a range carries none").min(0.0, false);
-  o.add("loss", &c->loss, "robust loss on ranges: huber | cauchy | tukey | none")
-      .oneOf({"huber", "cauchy", "tukey", "none"});
+  o.add("loss", &c->loss, {{"huber", C::Loss::kHuber}, {"cauchy", C::Loss::kCauchy}, {"tukey", C::Loss::kTukey}, {"none", C::Loss::kNone}},
+        "robust loss on ranges: huber | cauchy | tukey | none");
   o.add("loss_scale", &c->loss_scale, "robust loss scale in sigmas (0: the loss's 95 % efficiency constant)").min(0.0);
   o.add("loss_anneal_stages", &c->loss_anneal_stages, "solves with a narrowing robust loss").min(1).max(10);
   o.add("loss_anneal_factor", &c->loss_anneal_factor, "loss scale ratio between annealing stages").min(1.0);
@@ -56,54 +55,17 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
   o.add("beacon_offset_sigma_m", &c->beacon_offset_sigma_m, "prior sigma of each beacon's range offset").min(0.0, false);
   o.add("range_scale_sigma", &c->range_scale_sigma, "prior sigma of the range scale about 1 (0: none)").min(0.0);
   o.add("resolve_interval_s", &c->resolve_interval_s, "live re-solve interval of data time (0: at the end only)").min(0.0);
-  o.add("linear_solver", &c->linear_solver, "Ceres linear solver")
-      .oneOf({"sparse_normal_cholesky", "dense_qr", "sparse_schur", "iterative_schur", "cgnr"});
+  o.add("linear_solver", &c->linear_solver,
+        {{"sparse_normal_cholesky", C::LinearSolver::kSparseNormalCholesky}, {"dense_qr", C::LinearSolver::kDenseQr},
+         {"sparse_schur", C::LinearSolver::kSparseSchur}, {"iterative_schur", C::LinearSolver::kIterativeSchur},
+         {"cgnr", C::LinearSolver::kCgnr}},
+        "Ceres linear solver");
   o.add("max_iterations", &c->max_iterations, "Ceres iterations per annealing stage").min(1);
   o.add("function_tolerance", &c->function_tolerance, "Ceres relative cost change to stop").min(0.0);
   o.add("gradient_tolerance", &c->gradient_tolerance, "Ceres gradient max-norm to stop").min(0.0);
   o.add("parameter_tolerance", &c->parameter_tolerance, "Ceres relative step size to stop").min(0.0);
   o.add("num_threads", &c->num_threads, "Ceres threads").min(1);
   o.add("verbose", &c->verbose, "print the solver summary on stderr after every solve");
-}
-
-void validate(const SpectralBatchConfig& c) {
-  auto fail = [](const std::string& what) {
-    throw std::invalid_argument("spectral_batch config: expected " + what);
-  };
-  auto oneOf = [&](const std::string& key, const std::string& value,
-                   std::initializer_list<const char*> choices) {
-    std::string list;
-    for (const char* choice : choices) {
-      if (value == choice) return;
-      list += (list.empty() ? "" : " | ") + std::string(choice);
-    }
-    fail(key + " = " + list + ", got '" + value + "'");
-  };
-  oneOf("init", c.init, {"spectral", "deadreckoning"});
-  oneOf("anchor", c.anchor, {"start_pose", "beacons"});
-  oneOf("loss", c.loss, {"huber", "cauchy", "tukey", "none"});
-  oneOf("linear_solver", c.linear_solver,
-        {"sparse_normal_cholesky", "dense_qr", "sparse_schur", "iterative_schur", "cgnr"});
-  if (!(c.odo_distance_sigma_rel >= 0.0) || !(c.odo_heading_sigma_rel >= 0.0) ||
-      !(c.odo_heading_sigma_per_sqrt_m >= 0.0))
-    fail("odometry sigmas >= 0");
-  if (!(c.odo_distance_sigma_m > 0.0)) fail("odo_distance_sigma_m > 0 (the floor keeps every step's weight finite)");
-  if (!(c.odo_heading_sigma_rad > 0.0)) fail("odo_heading_sigma_rad > 0 (the floor keeps every step's weight finite)");
-  if (!(c.seed_heading_window_s >= 0.0)) fail("seed_heading_window_s >= 0");
-  if (!(c.seed_heading_align_m >= 0.0)) fail("seed_heading_align_m >= 0");
-  if (!(c.range_sigma_m > 0.0)) fail("range_sigma_m > 0");
-  if (!(c.loss_scale >= 0.0)) fail("loss_scale >= 0");
-  if (c.loss_anneal_stages < 1 || c.loss_anneal_stages > 10) fail("loss_anneal_stages in [1, 10]");
-  if (!(c.loss_anneal_factor >= 1.0)) fail("loss_anneal_factor >= 1");
-  if (!(c.heading_rate_bias_sigma_rad_s > 0.0)) fail("heading_rate_bias_sigma_rad_s > 0");
-  if (!(c.distance_scale_sigma > 0.0)) fail("distance_scale_sigma > 0");
-  if (!(c.beacon_offset_sigma_m > 0.0)) fail("beacon_offset_sigma_m > 0");
-  if (!(c.range_scale_sigma >= 0.0)) fail("range_scale_sigma >= 0");
-  if (!(c.resolve_interval_s >= 0.0)) fail("resolve_interval_s >= 0");
-  if (c.max_iterations < 1) fail("max_iterations >= 1");
-  if (!(c.function_tolerance >= 0.0) || !(c.gradient_tolerance >= 0.0) || !(c.parameter_tolerance >= 0.0))
-    fail("solver tolerances >= 0");
-  if (c.num_threads < 1) fail("num_threads >= 1");
 }
 
 }  // namespace spectral_batch

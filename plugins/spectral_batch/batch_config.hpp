@@ -3,21 +3,24 @@
 // search on a benchmark run.
 #pragma once
 
-#include <string>
-
 #include "roam/options.hpp"
 
 namespace roam {
 namespace spectral_batch {
 
 struct SpectralBatchConfig {
-  // Initial guess of the first solve: "spectral" (the spectral core's path and map) or
-  // "deadreckoning" (integrated odometry; beacons by linear multilateration from that path, or
+  enum class Init { kSpectral, kDeadReckoning };
+  enum class Anchor { kStartPose, kBeacons };
+  enum class Loss { kHuber, kCauchy, kTukey, kNone };
+  enum class LinearSolver { kSparseNormalCholesky, kDenseQr, kSparseSchur, kIterativeSchur, kCgnr };
+
+  // Initial guess of the first solve: spectral (the spectral core's path and map) or
+  // deadreckoning (integrated odometry; beacons by linear multilateration from that path, or
   // the surveyed ones with anchor = beacons) - the paper's "Batch Opt." row, same solver.
-  std::string init = "spectral";
-  // Gauge: "start_pose" fixes the first pose at INITIAL_POSE (SLAM with unknown beacons);
-  // "beacons" fixes the surveyed beacons from BEACONS (the start pose then only seeds the path).
-  std::string anchor = "start_pose";
+  Init init = Init::kSpectral;
+  // Gauge: start_pose fixes the first pose at INITIAL_POSE (SLAM with unknown beacons);
+  // beacons fixes the surveyed beacons from BEACONS (the start pose then only seeds the path).
+  Anchor anchor = Anchor::kStartPose;
   // init = spectral: 0 (default) takes the spectral core's own headings (its rank-7 heading
   // rows); > 0 replaces them by the direction of travel of the spectral positions over chords of
   // this many seconds centred on each pose (a ~4 m chord at 1 m/s averages 0.3 m position noise
@@ -79,7 +82,7 @@ struct SpectralBatchConfig {
   double range_sigma_m = 0.3;
   // Robust loss on the whitened range residual: huber | cauchy | tukey | none. The scale is in
   // sigmas; 0 picks the loss's 95 %-efficiency constant (huber 1.345, cauchy 2.385, tukey 4.685).
-  std::string loss = "huber";
+  Loss loss = Loss::kHuber;
   double loss_scale = 0.0;
   // Annealing: the robust loss starts loss_anneal_factor^(stages-1) times wider and narrows by
   // that factor per stage, so a start far from the optimum is not down-weighted into a stall.
@@ -133,7 +136,7 @@ struct SpectralBatchConfig {
   // Ceres solver. Sparse normal Cholesky suits the block-tridiagonal pose chain plus a few
   // dense beacon columns. Tolerances are Ceres' own defaults tightened so exact data converges
   // to well below a micrometre.
-  std::string linear_solver = "sparse_normal_cholesky";  // | dense_qr | sparse_schur | iterative_schur | cgnr
+  LinearSolver linear_solver = LinearSolver::kSparseNormalCholesky;  // | dense_qr | sparse_schur | iterative_schur | cgnr
   int max_iterations = 100;       // per annealing stage
   double function_tolerance = 1e-10;
   double gradient_tolerance = 1e-12;
@@ -145,11 +148,9 @@ struct SpectralBatchConfig {
 // The robust-loss scale actually used (loss_scale, or the loss's 95 %-efficiency constant).
 double effectiveLossScale(const SpectralBatchConfig& config);
 
-// Registers every key of the [estimator.*] section with its checks (the shim calls parse()).
+// Registers every key of the [estimator.*] section with its checks (the shim calls parse();
+// SpectralBatchSlam runs the same checks on a struct with checkConfig): the only validator.
 void addSpectralBatchOptions(Options& options, SpectralBatchConfig* config);
-
-// Throws std::invalid_argument naming the first broken constraint (for direct construction).
-void validate(const SpectralBatchConfig& config);
 
 }  // namespace spectral_batch
 }  // namespace roam

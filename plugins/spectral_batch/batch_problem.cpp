@@ -56,20 +56,26 @@ struct CalibrationPrior {
   double mean, sigma;
 };
 
-std::unique_ptr<ceres::LossFunction> makeLoss(const std::string& name, double scale) {
-  if (name == "huber") return std::make_unique<ceres::HuberLoss>(scale);
-  if (name == "cauchy") return std::make_unique<ceres::CauchyLoss>(scale);
-  if (name == "tukey") return std::make_unique<ceres::TukeyLoss>(scale);
+std::unique_ptr<ceres::LossFunction> makeLoss(SpectralBatchConfig::Loss loss, double scale) {
+  switch (loss) {
+    case SpectralBatchConfig::Loss::kHuber: return std::make_unique<ceres::HuberLoss>(scale);
+    case SpectralBatchConfig::Loss::kCauchy: return std::make_unique<ceres::CauchyLoss>(scale);
+    case SpectralBatchConfig::Loss::kTukey: return std::make_unique<ceres::TukeyLoss>(scale);
+    case SpectralBatchConfig::Loss::kNone: break;
+  }
   return nullptr;  // none: plain squares
 }
 
-ceres::LinearSolverType linearSolver(const std::string& name) {
-  if (name == "sparse_normal_cholesky") return ceres::SPARSE_NORMAL_CHOLESKY;
-  if (name == "dense_qr") return ceres::DENSE_QR;
-  if (name == "sparse_schur") return ceres::SPARSE_SCHUR;
-  if (name == "iterative_schur") return ceres::ITERATIVE_SCHUR;
-  if (name == "cgnr") return ceres::CGNR;
-  throw std::invalid_argument("spectral_batch: unknown linear_solver '" + name + "'");
+ceres::LinearSolverType linearSolver(SpectralBatchConfig::LinearSolver solver) {
+  using S = SpectralBatchConfig::LinearSolver;
+  switch (solver) {
+    case S::kSparseNormalCholesky: return ceres::SPARSE_NORMAL_CHOLESKY;
+    case S::kDenseQr: return ceres::DENSE_QR;
+    case S::kSparseSchur: return ceres::SPARSE_SCHUR;
+    case S::kIterativeSchur: return ceres::ITERATIVE_SCHUR;
+    case S::kCgnr: return ceres::CGNR;
+  }
+  throw ConfigError("linear_solver", "not a linear solver");  // unreachable after checkConfig
 }
 
 }  // namespace
@@ -154,7 +160,7 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
 
   // One loss shared by every range, re-scaled between annealing stages.
   ceres::LossFunctionWrapper loss(nullptr, ceres::TAKE_OWNERSHIP);
-  ceres::LossFunction* range_loss = config.loss == "none" ? nullptr : &loss;
+  ceres::LossFunction* range_loss = config.loss == SpectralBatchConfig::Loss::kNone ? nullptr : &loss;
   std::vector<ceres::ResidualBlockId> range_blocks;
   range_blocks.reserve(problem.ranges.size());
   double* calibration = state->calibration.data();

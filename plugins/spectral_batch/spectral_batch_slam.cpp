@@ -39,8 +39,8 @@ Pose toPose(int64_t utime, const std::array<double, 3>& pose) {
 }  // namespace
 
 SpectralBatchSlam::SpectralBatchSlam(const SpectralBatchConfig& config) : config_(config) {
-  validate(config_);
-  if (config_.init == "spectral") spectral_ = spectral_batch::makeSpectralSeed(config_);
+  checkConfig(config_, addSpectralBatchOptions);
+  if (config_.init == SpectralBatchConfig::Init::kSpectral) spectral_ = spectral_batch::makeSpectralSeed(config_);
 }
 
 SpectralBatchSlam::~SpectralBatchSlam() = default;
@@ -148,7 +148,7 @@ std::vector<std::array<double, 3>> SpectralBatchSlam::initialPoses(bool final) {
         for (size_t k = 1; k < poses.size(); ++k)
           poses[k][2] = poses[k - 1][2] + wrapAngle(poses[k][2] - poses[k - 1][2]);
       }
-      if (config_.anchor == "start_pose") {
+      if (config_.anchor == SpectralBatchConfig::Anchor::kStartPose) {
         // Gauge: the solve fixes pose 0, and INITIAL_POSE defines it. The spectral path sits in
         // the start-pose frame only up to its alignment over the first align_m of travel (its
         // pose 0 is typically decimetres off, its heading there poorly determined while the robot
@@ -234,7 +234,7 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
     std::array<double, 2> beacon{0.0, 0.0};
     bool have = false;
     bool fixed = false;
-    if (config_.anchor == "beacons") {
+    if (config_.anchor == SpectralBatchConfig::Anchor::kBeacons) {
       for (const Beacon& b : surveyed_) {
         if (b.id == id) {
           beacon = {b.x_m, b.y_m};
@@ -289,9 +289,9 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
   }
   problem.odometry = odometry_;
   problem.dt_s = dt_s_;
-  problem.fix_first_pose = config_.anchor == "start_pose";
+  problem.fix_first_pose = config_.anchor == SpectralBatchConfig::Anchor::kStartPose;
   problem.fix_first_heading = fix_first_heading;
-  if (have_initial_pose_ && config_.anchor == "beacons" && config_.start_pose_sigma_m > 0.0) {
+  if (have_initial_pose_ && config_.anchor == SpectralBatchConfig::Anchor::kBeacons && config_.start_pose_sigma_m > 0.0) {
     problem.start_prior_pose = start_pose_;
     problem.start_prior_sigma = {config_.start_pose_sigma_m, config_.start_pose_sigma_m,
                                  config_.start_heading_sigma_rad};
@@ -394,7 +394,7 @@ double SpectralBatchSlam::scanHeadingRateBias(const std::vector<Tie>& tied) cons
     double cost = 0.0;
     for (const auto& [id, ps] : positions) {
       const Beacon* surveyed = nullptr;
-      if (config_.anchor == "beacons")
+      if (config_.anchor == SpectralBatchConfig::Anchor::kBeacons)
         for (const Beacon& b : surveyed_)
           if (b.id == id) surveyed = &b;
       if (surveyed) {
@@ -510,7 +510,7 @@ void SpectralBatchSlam::solveNow(bool final) {
     best_cost_ = costWithNoise(best, factors);
     setDiagnostic("odometry_alone_cost", odometry_alone_cost_);
   }
-  if (final && config_.anchor == "start_pose" && config_.gauge_align_m > 0.0 && best.summary.usable)
+  if (final && config_.anchor == SpectralBatchConfig::Anchor::kStartPose && config_.gauge_align_m > 0.0 && best.summary.usable)
     alignRotationToOdometry(&best.state);
   noise_factors_ = factors;
   setDiagnostic("odometry_noise_scale", factors[0]);

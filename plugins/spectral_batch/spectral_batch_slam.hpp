@@ -45,7 +45,8 @@ namespace spectral_batch {
 
 class SpectralBatchSlam : public Estimator {
  public:
-  // Throws std::invalid_argument on a bad config (or init = spectral without the spectral core).
+  // Throws ConfigError naming the key on a bad config (std::invalid_argument: init = spectral
+  // without the spectral core).
   explicit SpectralBatchSlam(const SpectralBatchConfig& config);
   ~SpectralBatchSlam() override;
 

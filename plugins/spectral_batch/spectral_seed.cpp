@@ -15,7 +15,7 @@ bool spectralSeedAvailable() { return true; }
 
 std::unique_ptr<Estimator> makeSpectralSeed(const SpectralBatchConfig& config) {
   SpectralConfig spectral;
-  spectral.anchor = config.anchor == "beacons" ? SpectralAnchor::kBeacons : SpectralAnchor::kStartPose;
+  spectral.anchor = config.anchor == SpectralBatchConfig::Anchor::kBeacons ? SpectralAnchor::kBeacons : SpectralAnchor::kStartPose;
   return std::make_unique<SpectralSlam>(spectral);
 }
 

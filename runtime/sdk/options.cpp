@@ -94,6 +94,53 @@ Options::Option& Options::Option::oneOf(std::initializer_list<int> choices) {
   return oneOf(names);
 }
 
+Options::Option& Options::Option::nonEmpty() {
+  auto print = print_;
+  checks_.push_back([print]() -> std::string { return print().empty() ? "a non-empty value" : ""; });
+  return *this;
+}
+
+Options::Option& Options::addNamed(const std::string& key, const std::string& help,
+                                   std::vector<std::string> names, std::function<void(size_t)> set,
+                                   std::function<int()> get) {
+  auto option = std::make_unique<Option>();
+  option->key_ = key;
+  option->help_ = help;
+  option->type_name_ = "one of";
+  for (size_t i = 0; i < names.size(); ++i) option->type_name_ += (i ? " | " : " ") + names[i];
+  option->parse_ = [names, set](const std::string& text) {
+    const auto it = std::find(names.begin(), names.end(), text);
+    if (it == names.end()) return false;
+    set(static_cast<size_t>(it - names.begin()));
+    return true;
+  };
+  option->numeric_ = [get] { return static_cast<double>(get()); };
+  option->print_ = [names, get] {
+    const int index = get();
+    return index < 0 ? std::string("(not a named value)") : names[static_cast<size_t>(index)];
+  };
+  option->hint_ = [names](const std::string& text) {
+    const std::string hint = closestMatch(text, names);
+    return hint.empty() ? std::string() : " (did you mean '" + hint + "'?)";
+  };
+  const std::string expected = option->type_name_;
+  option->checks_.push_back([get, expected]() -> std::string { return get() < 0 ? expected : ""; });
+  return insert(std::move(option));
+}
+
+Options& Options::require(std::function<bool()> holds, std::vector<std::string> keys,
+                          std::string constraint) {
+  requirements_.push_back(Requirement{std::move(holds), std::move(keys), std::move(constraint)});
+  return *this;
+}
+
+std::string Options::printed(const std::string& key) const {
+  for (const auto& option : options_) {
+    if (option->key_ == key) return option->print_();
+  }
+  return "?";
+}
+
 Options::Option& Options::insert(std::unique_ptr<Option> option) {
   options_.push_back(std::move(option));
   return *options_.back();
@@ -117,6 +164,10 @@ Options::Option& Options::add(const std::string& key, double* target, const std:
   };
   option->numeric_ = [target] { return *target; };
   option->print_ = [target] { return formatDouble(*target); };
+  // A value from a config file is finite by parsing; one set in a struct is checked here.
+  option->checks_.push_back([target]() -> std::string {
+    return std::isfinite(*target) ? "" : "a finite number";
+  });
   return insert(std::move(option));
 }
 
@@ -194,7 +245,8 @@ void Options::parse() {
       throw ConfigError(key, message);
     }
     if (!(*it)->parse_(value)) {
-      throw ConfigError(key, "expected " + (*it)->type_name_ + ", got '" + value + "'");
+      const std::string hint = (*it)->hint_ ? (*it)->hint_(value) : "";
+      throw ConfigError(key, "expected " + (*it)->type_name_ + hint + ", got '" + value + "'");
     }
     given_.push_back(key);
   }
@@ -207,6 +259,20 @@ void Options::parse() {
       }
     }
   }
+  for (const auto& requirement : requirements_) {
+    if (requirement.holds()) continue;
+    std::string key = requirement.keys.empty() ? "" : requirement.keys.front();
+    for (const auto& candidate : requirement.keys) {
+      if (given(candidate)) {
+        key = candidate;
+        break;
+      }
+    }
+    std::string got;
+    for (const auto& candidate : requirement.keys)
+      got += (got.empty() ? "" : ", ") + candidate + " = " + printed(candidate);
+    throw ConfigError(key, "expected " + requirement.constraint + ", got " + got);
+  }
   effective_.clear();
   for (const auto& option : options_) effective_.emplace_back(option->key_, option->print_());
   parsed_ = true;
@@ -214,6 +280,12 @@ void Options::parse() {
 
 bool Options::given(const std::string& key) const {
   return std::find(given_.begin(), given_.end(), key) != given_.end();
+}
+
+std::vector<std::string> Options::keys() const {
+  std::vector<std::string> out;
+  for (const auto& option : options_) out.push_back(option->key_);
+  return out;
 }
 
 KeyValues Options::effective() const {

@@ -1,4 +1,6 @@
-// roam-run's configuration: an INI file read with Boost.Program_options.
+// roam-run's configuration: an INI file, tokenised once; the [runtime] keys and the runtime's
+// keys of each [estimator.NAME] are declared with roam::Options (defaults, checks, help), as
+// the plugins declare theirs, so errors, "did you mean" and --print-config are one code path.
 //
 //   [runtime]            input, output, plugin_path, channel names, live-mode settings
 //   [estimator.NAME]     plugin = <plugin name>; every other key goes to the plugin, except the

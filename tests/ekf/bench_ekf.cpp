@@ -27,7 +27,7 @@ roam::sim::SimRun benchRun() {
 void BM_EkfStepWithRange(benchmark::State& state) {
   static const roam::sim::SimRun run = benchRun();
   roam::ekf::EkfConfig config;
-  config.anchor = "beacons";  // all 4 beacons in the state from the start
+  config.anchor = roam::ekf::EkfConfig::Anchor::kBeacons;  // all 4 beacons in the state from the start
   auto ekf = std::make_unique<roam::ekf::EkfSlam>(config);
   ekf->setInitialPose(run.start);
   ekf->setBeacons(run.beacons);

@@ -158,7 +158,7 @@ TEST(EkfCalibration, AuvSparseOutliersBeaconsBeatDeadReckoningOnEverySeedAndRepe
     }
     const sim::SimRun run = sim::simulate(world);
     EkfConfig config;
-    config.anchor = "beacons";
+    config.anchor = EkfConfig::Anchor::kBeacons;
     EkfSlam ekf(config);
     test::feed(run, ekf);
     const double error_m = meanError(ekf.path(), run.ground_truth);

@@ -104,7 +104,7 @@ TEST(EkfSlam, NoiseFreeRangeBearingRecovers) {
 TEST(EkfSlam, NoiseFreeBeaconsAnchorRecovers) {
   const sim::SimRun run = sim::simulate(noiseFreeLawnMower());
   EkfConfig config;
-  config.anchor = "beacons";
+  config.anchor = EkfConfig::Anchor::kBeacons;
   EkfSlam ekf(config);
   test::feed(run, ekf);
   Path path;
@@ -137,7 +137,7 @@ NoisyCase noisyBeaconsCase(uint64_t seed, int num_steps = 300) {
   c.odo_heading_sigma_rad = 0.005;
   c.range_sigma_m = 0.3;
   NoisyCase out{sim::simulate(c), EkfConfig{}};
-  out.config.anchor = "beacons";
+  out.config.anchor = EkfConfig::Anchor::kBeacons;
   out.config.odo_distance_sigma_rel = 0.02;
   out.config.odo_distance_sigma_m = 0.0;
   out.config.odo_heading_sigma_rel = 0.0;
@@ -183,7 +183,7 @@ NeesSummary poseNeesOver50Runs(const std::string& anchor) {
   std::vector<double> sum;
   for (int seed = 1; seed <= kRuns; ++seed) {
     NoisyCase c = noisyBeaconsCase(static_cast<uint64_t>(seed));
-    c.config.anchor = anchor;
+    c.config.anchor = anchor == "beacons" ? EkfConfig::Anchor::kBeacons : EkfConfig::Anchor::kStartPose;
     if (anchor == "start_pose") c.run.start = c.run.ground_truth.front();
     EkfSlam ekf(c.config);
     test::feed(c.run, ekf);
@@ -240,7 +240,7 @@ TEST(EkfSlam, StartPoseNoisyRunsBeatDeadReckoningWithAConsistentMap) {
   for (int seed = 1; seed <= kSeeds; ++seed) {
     NoisyCase c = noisyBeaconsCase(static_cast<uint64_t>(seed), 900);
     c.run.start = c.run.ground_truth.front();
-    c.config.anchor = "start_pose";
+    c.config.anchor = EkfConfig::Anchor::kStartPose;
     EkfSlam ekf(c.config);
     test::feed(c.run, ekf);
     double ekf_sum_m = 0.0, dr_sum_m = 0.0;
@@ -356,7 +356,7 @@ TEST(EkfSlam, OutlierIsGatedCountedAndChangesNothing) {
 
 TEST(EkfSlam, RepeatRunsAreBitIdentical) {
   NoisyCase c = noisyBeaconsCase(11);
-  c.config.anchor = "start_pose";
+  c.config.anchor = EkfConfig::Anchor::kStartPose;
   EkfSlam a(c.config), b(c.config);
   test::feed(c.run, a);
   test::feed(c.run, b);
@@ -396,9 +396,26 @@ TEST(EkfConfig, BadValuesNameTheKey) {
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.key(), "gate_probability");
   }
+  try {
+    parse({{"init_max_ranges", "5"}});
+    FAIL() << "expected a ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), "init_max_ranges");
+    EXPECT_STREQ(e.what(), "expected init_max_ranges >= init_min_ranges, got init_max_ranges = 5, init_min_ranges = 6");
+  }
+  // A core built from a struct meets the same declared checks (checkConfig), naming the key.
   EkfConfig bad;
   bad.init_max_ranges = 2;
-  EXPECT_THROW(EkfSlam{bad}, std::invalid_argument);
+  try {
+    EkfSlam ekf{bad};
+    FAIL() << "expected a ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), "init_max_ranges");
+    EXPECT_STREQ(e.what(), "init_max_ranges: expected a value >= 3, got '2'");
+  }
+  bad = EkfConfig{};
+  bad.range_bias = static_cast<EkfConfig::RangeBias>(5);
+  EXPECT_THROW(EkfSlam{bad}, ConfigError);
 }
 
 }  // namespace

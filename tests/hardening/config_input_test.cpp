@@ -37,13 +37,13 @@ void expectStartupError(const Case& c) {
 
 TEST(BadConfig, RuntimeValuesOfTheWrongTypeOrOutOfRange) {
   expectStartupError({"status_interval_s = often\n", "", "deadreckoning",
-                      ":4 [runtime] status_interval_s: expected a number >= 0, got 'often'"});
+                      ":4 [runtime] status_interval_s: expected a number, got 'often'"});
   expectStartupError({"max_odometry_gap_s = -1\n", "", "deadreckoning",
-                      ":4 [runtime] max_odometry_gap_s: expected a number >= 0, got '-1'"});
+                      ":4 [runtime] max_odometry_gap_s: expected a value >= 0, got '-1'"});
   expectStartupError({"trajectory_interval_s = nan\n", "", "deadreckoning",
-                      ":4 [runtime] trajectory_interval_s: expected a number >= 0, got 'nan'"});
+                      ":4 [runtime] trajectory_interval_s: expected a number, got 'nan'"});
   expectStartupError({"range_channel =\n", "", "deadreckoning",
-                      ":4 [runtime] range_channel: expected a channel name, got ''"});
+                      ":4 [runtime] range_channel: expected a non-empty value, got ''"});
 }
 
 TEST(BadConfig, MaxRangeOfTheWrongTypeOrOutOfRangeInEveryPlugin) {

@@ -50,7 +50,7 @@ sim::SimConfig noisyPlazaLike(int steps, uint64_t seed) {
 
 OnlineEmConfig noiseFreeConfig(const std::string& anchor) {
   OnlineEmConfig c;
-  c.anchor = anchor;
+  setOptions(&c, addOnlineEmOptions, {{"anchor", anchor}});
   c.odo_distance_sigma_rel = 0.0;
   c.odo_distance_sigma_m = 1e-7;
   c.odo_heading_sigma_rad = 1e-8;
@@ -168,7 +168,7 @@ TEST(OnlineEmNoisy, MapErrorFallsAndScaleIsLearned) {
 TEST(OnlineEmNoisy, SurveyedBeaconsGiveSubMetrePath) {
   const Dataset data = sim::simulate(noisyPlazaLike(2000, 5));
   OnlineEmConfig config;
-  config.anchor = "beacons";
+  config.anchor = OnlineEmConfig::Anchor::kBeacons;
   OnlineEmSlam slam(config);
   feed(data, slam);
   const double mean_m = meanError(slam.filteredPath(), data.ground_truth);
@@ -276,7 +276,7 @@ TEST(OnlineEmOutliers, ThirtyPercentNlosRangesInBothAnchors) {
   const Dataset data = sim::simulate(c);
   for (const std::string anchor : {"beacons", "start_pose"}) {
     OnlineEmConfig config;
-    config.anchor = anchor;
+    setOptions(&config, addOnlineEmOptions, {{"anchor", anchor}});
     OnlineEmSlam slam(config);
     feed(data, slam);
     const double mean_m = meanError(slam.filteredPath(), data.ground_truth);
@@ -339,9 +339,32 @@ TEST(OnlineEmConfig, BadValuesNameTheKey) {
     EXPECT_NE(std::string(e.what()).find("num_particles"), std::string::npos) << e.what();
   }
   EXPECT_THROW(parse({{"anchor", "gps"}}), ConfigError);
+  try {
+    parse({{"range_bearing_cov", "1"}});  // |rho| >= sr * sb: R is not positive definite
+    FAIL() << "range_bearing_cov = 1 accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), "range_bearing_cov");
+    EXPECT_STREQ(e.what(),
+                 "expected range_bearing_cov^2 < (range_sigma_m * bearing_sigma_rad)^2 (R positive definite), "
+                 "got range_bearing_cov = 1, range_sigma_m = 0.5, bearing_sigma_rad = 0.05235987755982988");
+  }
+  // A core built from a struct meets the same declared checks, naming the key.
   OnlineEmConfig bad;
-  bad.range_bearing_cov = 1.0;  // |rho| >= sr * sb: R is not positive definite
-  EXPECT_THROW(OnlineEmSlam{bad}, ConfigError);
+  bad.range_bearing_cov = 1.0;
+  try {
+    OnlineEmSlam slam{bad};
+    FAIL() << "range_bearing_cov = 1 accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), "range_bearing_cov");
+  }
+  bad = OnlineEmConfig{};
+  bad.mstep_every = 0;
+  try {
+    OnlineEmSlam slam{bad};
+    FAIL() << "mstep_every = 0 accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(), "mstep_every: expected a value >= 1, got '0'");
+  }
   EXPECT_EQ(parse({{"num_particles", "50"}}).num_particles, 50);
 }
 

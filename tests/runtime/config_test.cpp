@@ -67,9 +67,9 @@ TEST(Config, UrlInputsAreNotPathsAndOverridesWin) {
 TEST(Config, ErrorsNameFileLineSectionAndKey) {
   const std::string head = "[runtime]\ninput = a.lcmlog\n";
   EXPECT_EQ(loadError(head + "inptu = b\n[estimator.a]\nplugin = x\n"),
-            "bad.ini:3 [runtime] inptu: unknown key (did you mean 'input'?)");
+            "bad.ini:3 [runtime] inptu: unknown key 'inptu' (did you mean 'input'?)");
   EXPECT_EQ(loadError(head + "status_interval_s = fast\n[estimator.a]\nplugin = x\n"),
-            "bad.ini:3 [runtime] status_interval_s: expected a number >= 0, got 'fast'");
+            "bad.ini:3 [runtime] status_interval_s: expected a number, got 'fast'");
   EXPECT_EQ(loadError(head + "[estimator.a]\nrank = 4\n"),
             "bad.ini:3 [estimator.a] plugin: missing: name the plugin, e.g. plugin = spectral");
   EXPECT_EQ(loadError(head + "[estimater.a]\nplugin = x\n"),
@@ -85,7 +85,48 @@ TEST(Config, ErrorsNameFileLineSectionAndKey) {
   EXPECT_EQ(loadError(head + "[estimator.a b]\nplugin = x\n"),
             "bad.ini:3 [estimator.a b]: estimator name must be letters, digits, '_' or '-'");
   EXPECT_EQ(loadError(head + "[estimator.a]\nplugin = x\n", {"runtime.odometry_channel="}),
-            "--set runtime.odometry_channel= [runtime] odometry_channel: expected a channel name, got ''");
+            "--set runtime.odometry_channel= [runtime] odometry_channel: expected a non-empty value, got ''");
+}
+
+TEST(Config, RuntimeKeysGoThroughOptionsLikeThePlugins) {
+  // [runtime] and the runtime's estimator keys are declared with roam::Options: the same
+  // messages, hints and constraints as a plugin's keys.
+  const std::string head = "[runtime]\ninput = a.lcmlog\n";
+  const std::string tail = "[estimator.a]\nplugin = x\n";
+  EXPECT_EQ(loadError(head + "max_update_s = -1\n" + tail),
+            "bad.ini:3 [runtime] max_update_s: expected a value >= 0, got '-1'");
+  EXPECT_EQ(loadError(head + "threads = 0\n" + tail), "bad.ini:3 [runtime] threads: expected a value >= 1, got '0'");
+  EXPECT_EQ(loadError(head + "threads = 2000\n" + tail),
+            "bad.ini:3 [runtime] threads: expected a value <= 1024, got '2000'");
+  EXPECT_EQ(loadError(head + "isolation = proces\n" + tail),
+            "bad.ini:3 [runtime] isolation: expected one of none | process (did you mean 'process'?), got 'proces'");
+  EXPECT_EQ(loadError(head + tail + "pose_channel =\n"),
+            "bad.ini:5 [estimator.a] pose_channel: expected a non-empty value, got ''");
+  EXPECT_EQ(loadError(head + tail + "max_memory_mb = 64\n", {"estimator.a.isolation=none"}),
+            "bad.ini:5 [estimator.a] max_memory_mb: expected isolation = process when max_memory_mb > 0 (the limit "
+            "applies to the estimator's own process), got max_memory_mb = 64, isolation = none");
+  // [runtime] supplies the estimators' defaults wherever it stands in the file.
+  const auto dir = scratchDir("config_runtime_last");
+  const auto path = writeFile(dir / "run.ini", tail + "max_finish_s = 3\n" + head + "isolation = process\n"
+                                                   "max_finish_s = 9\nthreads = 2\n");
+  const RunConfig config = loadConfig(path.string(), {}, "/p");
+  EXPECT_EQ(config.threads, 2);
+  EXPECT_TRUE(config.isolated);
+  ASSERT_EQ(config.estimators.size(), 1u);
+  EXPECT_TRUE(config.estimators[0].isolated);
+  EXPECT_EQ(config.estimators[0].max_finish_s, 3.0);
+  EXPECT_TRUE(config.estimators[0].plugin_settings.empty());
+  // --print-config prints the declared keys with their names and values.
+  const std::string printed = formatConfig(config);
+  EXPECT_NE(printed.find("[runtime]\ninput = " + (dir / "a.lcmlog").string() + "\noutput = \nplugin_path = /p\n"
+                         "odometry_channel = ODOMETRY\n"),
+            std::string::npos) << printed;
+  EXPECT_NE(printed.find("isolation = process\nmax_update_s = 0\nmax_finish_s = 9\nidle_warning_s = 5\nthreads = 2\n"),
+            std::string::npos) << printed;
+  EXPECT_NE(printed.find("[estimator.a]\nplugin = x\npose_channel = POSE_A\nmap_channel = MAP_A\n"
+                         "trajectory_channel = TRAJECTORY_A\nstatus_channel = STATUS_A\nisolation = process\n"
+                         "max_update_s = 0\nmax_finish_s = 3\nmax_memory_mb = 0\n"),
+            std::string::npos) << printed;
 }
 
 TEST(Config, MissingFileIsReported) {

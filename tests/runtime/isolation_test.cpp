@@ -201,11 +201,12 @@ TEST(Isolation, FaultSettingsAreCheckedAtStartup) {
   const Fixture f = makeFixture("isolation_config");
   const std::pair<std::string, std::string> cases[] = {
       {"[estimator.dr]\nplugin = deadreckoning\nisolation = proces\n",
-       "[estimator.dr] isolation: expected one of none | process, got 'proces'"},
+       "[estimator.dr] isolation: expected one of none | process (did you mean 'process'?), got 'proces'"},
       {"[estimator.dr]\nplugin = deadreckoning\nmax_memory_mb = 100\n",
-       "[estimator.dr] max_memory_mb: needs isolation = process (the limit applies to the estimator's own process)"},
+       "[estimator.dr] max_memory_mb: expected isolation = process when max_memory_mb > 0 (the limit applies to "
+       "the estimator's own process), got max_memory_mb = 100, isolation = none"},
       {"[estimator.dr]\nplugin = deadreckoning\nmax_update_s = soon\n",
-       "[estimator.dr] max_update_s: expected a number >= 0, got 'soon'"},
+       "[estimator.dr] max_update_s: expected a number, got 'soon'"},
       {"[estimator.dr]\nplugin = deadreckoning\nisolation = process\nmax_range_m = 0\n",
        "[estimator.dr] max_range_m: expected a value > 0, got '0'"},  // refused in the child, reported alike
   };

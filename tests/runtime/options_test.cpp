@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 namespace roam {
 namespace {
 
@@ -62,6 +64,87 @@ TEST(Options, EffectiveListsEveryOptionWithDefaults) {
   EXPECT_EQ(options.effective(), expected);
   EXPECT_TRUE(options.given("rank"));
   EXPECT_FALSE(options.given("window_s"));
+}
+
+enum class Anchor { kBeacons, kStartPose };
+
+struct RangeConfig {
+  Anchor anchor = Anchor::kBeacons;
+  int min_ranges = 6;
+  int max_ranges = 200;
+  double sigma_m = 0.5;
+};
+
+// The one declaration of RangeConfig's keys: each option's checks and one across keys.
+void addRangeOptions(Options& o, RangeConfig* c) {
+  o.add("anchor", &c->anchor, {{"beacons", Anchor::kBeacons}, {"start_pose", Anchor::kStartPose}}, "frame");
+  o.add("min_ranges", &c->min_ranges, "ranges before initialising").min(3);
+  o.add("max_ranges", &c->max_ranges, "ranges buffered").min(3);
+  o.add("sigma_m", &c->sigma_m, "range sigma").min(0.0, false);
+  o.require([c] { return c->max_ranges >= c->min_ranges; }, {"max_ranges", "min_ranges"},
+            "max_ranges >= min_ranges");
+}
+
+std::string rangeError(const KeyValues& values, RangeConfig* config = nullptr) {
+  RangeConfig local;
+  Options options(values);
+  addRangeOptions(options, config ? config : &local);
+  try {
+    options.parse();
+  } catch (const ConfigError& error) {
+    return error.key() + ": " + error.what();
+  }
+  return "";
+}
+
+TEST(Options, EnumsAreParsedOnceFromTheirNamesAndPrintedByName) {
+  RangeConfig config;
+  EXPECT_EQ(rangeError({{"anchor", "start_pose"}}, &config), "");
+  EXPECT_EQ(config.anchor, Anchor::kStartPose);
+  EXPECT_EQ(rangeError({{"anchor", "start-pose"}}),
+            "anchor: expected one of beacons | start_pose (did you mean 'start_pose'?), got 'start-pose'");
+  EXPECT_EQ(rangeError({{"anchor", "4"}}), "anchor: expected one of beacons | start_pose, got '4'");
+  Options options(KeyValues{{"anchor", "start_pose"}});
+  addRangeOptions(options, &config);
+  options.parse();
+  EXPECT_EQ(options.effective().front(), (std::pair<std::string, std::string>{"anchor", "start_pose"}));
+}
+
+TEST(Options, ACrossKeyConstraintNamesTheKeyTheConfigGave) {
+  EXPECT_EQ(rangeError({{"max_ranges", "5"}}),
+            "max_ranges: expected max_ranges >= min_ranges, got max_ranges = 5, min_ranges = 6");
+  EXPECT_EQ(rangeError({{"min_ranges", "300"}}),
+            "min_ranges: expected max_ranges >= min_ranges, got max_ranges = 200, min_ranges = 300");
+  EXPECT_EQ(rangeError({{"min_ranges", "10"}, {"max_ranges", "10"}}), "");
+  // Each key's own check comes first.
+  EXPECT_EQ(rangeError({{"min_ranges", "2"}}), "min_ranges: expected a value >= 3, got '2'");
+}
+
+// checkConfig: a struct built in code (not from a file) meets the same declared checks.
+std::string checkError(const RangeConfig& config) {
+  try {
+    checkConfig(config, addRangeOptions);
+  } catch (const ConfigError& error) {
+    return error.key() + " | " + error.what();
+  }
+  return "";
+}
+
+TEST(Options, CheckConfigRunsTheDeclaredChecksOverAStructsValues) {
+  RangeConfig config;
+  EXPECT_EQ(checkError(config), "");
+  config.sigma_m = 0.0;
+  EXPECT_EQ(checkError(config), "sigma_m | sigma_m: expected a value > 0, got '0'");
+  config.sigma_m = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(checkError(config), "sigma_m | sigma_m: expected a finite number, got 'inf'");
+  config = RangeConfig{};
+  config.max_ranges = 4;
+  EXPECT_EQ(checkError(config),
+            "max_ranges | max_ranges: expected max_ranges >= min_ranges, got max_ranges = 4, min_ranges = 6");
+  config = RangeConfig{};
+  config.anchor = static_cast<Anchor>(7);
+  EXPECT_EQ(checkError(config),
+            "anchor | anchor: expected one of beacons | start_pose, got '(not a named value)'");
 }
 
 }  // namespace

@@ -166,7 +166,7 @@ void BM_Batch(benchmark::State& state) {
   const int steps = static_cast<int>(state.range(0)), beacons = static_cast<int>(state.range(1));
   const roam::Dataset& data = world(steps, beacons);
   roam::spectral_batch::SpectralBatchConfig config;  // spectral seed, Ceres, range scale and offset: defaults,
-  config.anchor = "beacons";         // but surveyed beacons fix the frame, as in BM_Spectral
+  config.anchor = roam::spectral_batch::SpectralBatchConfig::Anchor::kBeacons;  // but surveyed beacons fix the frame, as in BM_Spectral
   const double input_rss_mb = statusKb("VmRSS") / 1024.0;
   resetPeakRss();
   roam::Path path;

@@ -189,25 +189,37 @@ TEST(SpectralSlam, BatchModeEmitsEveryPoseAtFinish) {
 }
 
 TEST(SpectralSlam, RejectsBadConfigWithTheReason) {
+  // The core checks a struct with the plugin's own declarations (checkConfig): the error names
+  // the key and the broken constraint.
   auto message = [](SpectralConfig c) {
     try {
       SpectralSlam slam(c);
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
+    } catch (const ConfigError& e) {
+      return e.key() + " | " + e.what();
     }
     return std::string();
   };
   SpectralConfig c;
   c.rank = 5;
-  EXPECT_NE(message(c).find("rank must be 4 or 7"), std::string::npos);
+  EXPECT_EQ(message(c), "rank | rank: expected one of 4 | 7, got '5'");
   c = SpectralConfig{};
   c.window_overlap = 1.0;
-  EXPECT_NE(message(c).find("window_overlap"), std::string::npos);
+  EXPECT_EQ(message(c), "window_overlap | window_overlap: expected a value < 1, got '1'");
   c = SpectralConfig{};
   c.min_ranges_per_window = 3;
-  EXPECT_NE(message(c).find("min_ranges_per_window"), std::string::npos);
-  EXPECT_THROW(parseSpectralAnchor("beacon"), std::invalid_argument);
-  EXPECT_THROW(parseSpectralMode("offline"), std::invalid_argument);
+  EXPECT_EQ(message(c), "min_ranges_per_window | min_ranges_per_window: expected a value >= 4, got '3'");
+  c = SpectralConfig{};
+  c.mode = static_cast<SpectralMode>(9);
+  EXPECT_EQ(message(c), "mode | mode: expected one of batch | online, got '(not a named value)'");
+  // From a config file, enums are parsed once into enums.
+  Options options(KeyValues{{"anchor", "start_pose"}, {"mode", "online"}});
+  addSpectralOptions(options, &c);
+  options.parse();
+  EXPECT_EQ(c.anchor, SpectralAnchor::kStartPose);
+  EXPECT_EQ(c.mode, SpectralMode::kOnline);
+  Options bad(KeyValues{{"anchor", "beacon"}});
+  addSpectralOptions(bad, &c);
+  EXPECT_THROW(bad.parse(), ConfigError);
 }
 
 TEST(SpectralSlam, AnchorBeaconsWithoutSurveyFailsClearly) {

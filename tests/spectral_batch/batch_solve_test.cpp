@@ -90,7 +90,7 @@ TEST(BatchSolve, ExactRecoveryFromPerturbedStart) {
   const Dataset run = sim::simulate(smallRun());
   for (const char* loss : {"none", "cauchy", "tukey", "huber"}) {
     SpectralBatchConfig config;
-    config.loss = loss;
+    setOptions(&config, addSpectralBatchOptions, {{"loss", loss}});
     std::map<int, int> beacon_index;
     const Problem problem = problemOf(run, config, &beacon_index);
     const State truth = truthOf(run, beacon_index);

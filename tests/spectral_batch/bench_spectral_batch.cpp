@@ -33,7 +33,7 @@ const roam::Dataset& plazaSized() {
 void solve(benchmark::State& state, const char* init) {
   const roam::Dataset& data = plazaSized();
   roam::spectral_batch::SpectralBatchConfig config;
-  config.init = init;
+  roam::setOptions(&config, roam::spectral_batch::addSpectralBatchOptions, {{"init", init}});
   double error_m = 0.0;
   for (auto _ : state) {
     roam::spectral_batch::SpectralBatchSlam slam(config);

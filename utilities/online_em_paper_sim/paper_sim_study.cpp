@@ -15,8 +15,8 @@ OnlineEmConfig paperConfig(int particles, uint64_t seed, const std::string& indi
   OnlineEmConfig config;
   config.num_particles = particles;
   config.seed = static_cast<int>(seed);
-  config.anchor = "start_pose";
-  config.motion_model = "bicycle";  // the paper's f
+  config.anchor = OnlineEmConfig::Anchor::kStartPose;
+  config.motion_model = OnlineEmConfig::MotionModel::kBicycle;  // the paper's f
   config.wheelbase_m = kWheelbase_m;
   config.speed_sigma_mps = kSigmaV_mps;
   config.steer_sigma_rad = kSigmaPsi_rad;
@@ -26,8 +26,8 @@ OnlineEmConfig paperConfig(int particles, uint64_t seed, const std::string& indi
   config.range_sigma_m = kSigmaR_m;
   config.bearing_sigma_rad = kSigmaB_rad;
   config.range_bearing_cov = kRho;
-  config.indicators = indicators;     // "sampled": Algorithm 1
-  config.resampling = "multinomial";  // Algorithm 1
+  setOptions(&config, addOnlineEmOptions, {{"indicators", indicators}});  // sampled: Algorithm 1
+  config.resampling = OnlineEmConfig::Resampling::kMultinomial;           // Algorithm 1
   config.step_c = 1.0;                // gamma = 1 / t^0.8
   config.step_alpha = 0.8;
   config.estimate_range_scale = false;  // the paper's theta is the landmarks only
