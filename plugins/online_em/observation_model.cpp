@@ -55,6 +55,7 @@ int ObservationModel::linearise(const RangeObservation& y, double x_m, double y_
 double ObservationModel::logLikelihood(const RangeObservation& y, double x_m, double y_m,
                                        double heading_rad, const Eigen::Vector4d& phi,
                                        int component) const {
+  if (component == 1 && uniformOutlier(y)) return -std::log(outlier_span_m_);
   Eigen::Vector2d e;
   Eigen::Matrix<double, 2, 4> j;
   Eigen::Matrix2d w;
@@ -66,6 +67,10 @@ double ObservationModel::logLikelihood(const RangeObservation& y, double x_m, do
 void ObservationModel::statistic(const RangeObservation& y, double x_m, double y_m,
                                  double heading_rad, const Eigen::Vector4d& phi, int component,
                                  double* out) const {
+  if (component == 1 && uniformOutlier(y)) {
+    std::fill(out, out + kStatSize, 0.0);
+    return;
+  }
   Eigen::Vector2d e;
   Eigen::Matrix<double, 2, 4> j;
   Eigen::Matrix2d w;

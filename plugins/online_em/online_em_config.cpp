@@ -44,6 +44,11 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
   options.add("range_bearing_cov", &c->range_bearing_cov, "off-diagonal of R");
   options.add("indicators", &c->indicators, "sampled (Algorithm 1) or marginal (Rao-Blackwellised)")
       .oneOf(std::vector<std::string>{"sampled", "marginal"});
+  options.add("outlier_model", &c->outlier_model, "uniform (over the range span) or gaussian (sigma1)")
+      .oneOf(std::vector<std::string>{"uniform", "gaussian"});
+  options.add("estimate_mixture", &c->estimate_mixture, "outlier weight and inlier sigma in the M-step");
+  options.add("estimate_inlier_sigma", &c->estimate_inlier_sigma, "inlier sigma in the M-step (with estimate_mixture)");
+  options.add("mixture_prior_count", &c->mixture_prior_count, "pseudo-ranges of the mixture prior").min(0.0);
   options.add("step_c", &c->step_c, "step size gamma_n = c / n^alpha").min(0.0, false).max(1.0);
   options.add("step_alpha", &c->step_alpha, "step size exponent, in (0.5, 1]").min(0.5, false).max(1.0);
   options.add("mstep_every", &c->mstep_every, "M-step every k observing steps").min(1);
@@ -68,6 +73,7 @@ std::string validate(const OnlineEmConfig& c) {
   if (c.motion_model != "odometry" && c.motion_model != "bicycle") return "motion_model is odometry or bicycle";
   if (c.resampling != "multinomial" && c.resampling != "systematic") return "resampling is multinomial or systematic";
   if (c.indicators != "sampled" && c.indicators != "marginal") return "indicators is sampled or marginal";
+  if (c.outlier_model != "uniform" && c.outlier_model != "gaussian") return "outlier_model is uniform or gaussian";
   if (c.num_particles < 2) return "num_particles >= 2";
   if (c.seed < 0) return "seed >= 0";
   if (!(c.step_alpha > 0.5 && c.step_alpha <= 1.0)) return "step_alpha in (0.5, 1]";

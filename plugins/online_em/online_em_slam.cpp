@@ -47,6 +47,8 @@ OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
   calibration_statistics_ = Eigen::MatrixXd::Zero(n, 2);
   recording_ = config_.calibrated_rerun && config_.calibrate_odometry && config_.anchor == "start_pose" &&
                config_.motion_model == "odometry";
+  mixture_weight0_ = config_.mixture_weight0;
+  inlier_sigma0_ = config_.mixture_sigma0;
   setDiagnostic("num_particles", n);
 }
 
@@ -132,6 +134,10 @@ void OnlineEmSlam::addRange(const Range& range) {
     return;
   }
   if (recording_ && !replaying_) inputs_.push_back({false, Odometry{}, range});
+  if (config_.outlier_model == "uniform" && range.range_m > max_range_m_) {
+    max_range_m_ = range.range_m;
+    observation_.setOutlierSpan(max_range_m_);
+  }
   queued_ranges_.push_back(range);
 }
 
@@ -227,6 +233,28 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
   }
   bool degenerate = false;
   weights_ = normalise(log_weight, &degenerate);
+  if (config_.estimate_mixture && config_.indicators == "marginal") {
+    // Running averages over the ranges (posterior weights): P(outlier), and the inliers'
+    // squared residual in units of sr.
+    for (const StepObservation& obs : observations) {
+      if (obs.y.has_bearing) continue;
+      const Eigen::Vector4d phi_i = phi(obs.landmark);
+      const double sr = obs.y.sigma_m > 0.0 ? obs.y.sigma_m : config_.range_sigma_m;
+      double outlier = 0.0, inlier_e2 = 0.0;
+      for (int k = 0; k < n; ++k) {
+        double x, y, th;
+        interpolate(k, obs.fraction, &x, &y, &th);
+        const double e = obs.y.range_m - (phi_i[2] * std::hypot(phi_i[0] - x, phi_i[1] - y) + phi_i[3]);
+        outlier += weights_[k] * obs.wide_probability[k];
+        inlier_e2 += weights_[k] * (1.0 - obs.wide_probability[k]) * e * e / (sr * sr);
+      }
+      ++mixture_ranges_;
+      const double gamma = std::min(1.0, config_.step_c / std::pow(static_cast<double>(mixture_ranges_), config_.step_alpha));
+      mean_outlier_ = (1.0 - gamma) * mean_outlier_ + gamma * outlier;
+      mean_inlier_e2_ = (1.0 - gamma) * mean_inlier_e2_ + gamma * inlier_e2;
+      mean_inlier_ = (1.0 - gamma) * mean_inlier_ + gamma * (1.0 - outlier);
+    }
+  }
   if (degenerate) setDiagnostic("degenerate_weight_steps", ++degenerate_weight_steps_);
   if (!observations.empty()) {
     const double ess = 1.0 / weights_.square().sum();
@@ -238,6 +266,7 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
   // 2. Stochastic approximation with forward smoothing; 3. M-step.
   smoothStatistics(observations);
   if (!observations.empty() && ++observing_steps_ % config_.mstep_every == 0) {
+    mixtureMStep();
     mStep();
     calibrationMStep();
     correctFrame();
@@ -299,7 +328,7 @@ void OnlineEmSlam::smoothStatistics(std::vector<StepObservation>& observations) 
 double OnlineEmSlam::mixtureLogLikelihood(const RangeObservation& y, double x_m, double y_m,
                                           double heading_rad, const Eigen::Vector4d& phi_i,
                                           double* wide_probability) const {
-  const double w0 = config_.mixture_weight0;
+  const double w0 = mixture_weight0_;
   const double l0 = std::log(w0) + observation_.logLikelihood(y, x_m, y_m, heading_rad, phi_i, 0);
   if (w0 >= 1.0) {
     *wide_probability = 0.0;
@@ -435,6 +464,20 @@ void OnlineEmSlam::mStep() {
   setDiagnostic("range_offset_m", range_offset_m_);
   setDiagnostic("landmarks_initialised", num);
   emitMap(currentMap());
+}
+
+void OnlineEmSlam::mixtureMStep() {
+  if (!config_.estimate_mixture || config_.indicators != "marginal" || mixture_ranges_ == 0) return;
+  const double n = static_cast<double>(mixture_ranges_), n0 = config_.mixture_prior_count;
+  const double w1 = (n * mean_outlier_ + n0 * (1.0 - config_.mixture_weight0)) / (n + n0);
+  const double s0 = config_.mixture_sigma0;
+  const double variance = (n * mean_inlier_e2_ + n0 * s0 * s0) / (n * mean_inlier_ + n0);
+  if (!std::isfinite(w1) || !std::isfinite(variance)) return;
+  mixture_weight0_ = 1.0 - std::clamp(w1, 1.0 - config_.mixture_weight0, 0.6);
+  if (config_.estimate_inlier_sigma) inlier_sigma0_ = std::max(s0, std::sqrt(variance));
+  observation_.setInlierScale(inlier_sigma0_);
+  setDiagnostic("mixture_outlier_weight", 1.0 - mixture_weight0_);
+  setDiagnostic("mixture_inlier_sigma_scale", inlier_sigma0_);
 }
 
 void OnlineEmSlam::calibrationMStep() {

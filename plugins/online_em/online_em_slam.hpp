@@ -102,6 +102,8 @@ class OnlineEmSlam : public Estimator {
   double rangeOffset() const { return range_offset_m_; }
   const estimation::OdometryCalibration& odometryCalibration() const { return calibration_; }
   const Path& filteredPath() const { return path_; }
+  double outlierWeight() const { return 1.0 - mixture_weight0_; }
+  double inlierSigmaScale() const { return inlier_sigma0_; }
   const ParticlePoses& particles() const { return particles_; }
   const Eigen::ArrayXd& weights() const { return weights_; }
 
@@ -140,6 +142,7 @@ class OnlineEmSlam : public Estimator {
   double mixtureLogLikelihood(const RangeObservation& y, double x_m, double y_m, double heading_rad,
                               const Eigen::Vector4d& phi_i, double* wide_probability) const;
   void mStep();
+  void mixtureMStep();
   void calibrationMStep();
   void correctFrame();
   void applyFrameMotion(double angle_rad, const Eigen::Vector2d& translation_m);
@@ -188,6 +191,12 @@ class OnlineEmSlam : public Estimator {
   double heading_rate_bias_sigma_rad_s_ = kNaN;
   estimation::OdometryCalibration window_calibration_;  // the early window was dead-reckoned with it
   int64_t observing_steps_ = 0;
+  // Mixture in theta: the outlier span, the current (w0, sigma0) and the running averages of
+  // P(outlier), (1 - P(outlier)) e^2 / sr^2 and (1 - P(outlier)) over the ranges.
+  double max_range_m_ = 0.0;
+  double mixture_weight0_ = 0.8, inlier_sigma0_ = 1.0;
+  double mean_outlier_ = 0.0, mean_inlier_e2_ = 0.0, mean_inlier_ = 0.0;
+  int64_t mixture_ranges_ = 0;
   Path path_;  // filtered means, one per step (the start pose first)
   double sum_effective_predecessors_ = 0.0;
   int64_t smoothing_steps_ = 0;
