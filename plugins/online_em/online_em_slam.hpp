@@ -1,7 +1,7 @@
 // Online EM SLAM — Le Corff, Fort & Moulines, "Online Expectation Maximization algorithm to
 // solve the SLAM problem", IEEE SSP 2011.
 //
-// Model. The pose x_t = (p_t, th_t) is a hidden Markov chain driven by odometry (motion_model.hpp);
+// Model. The pose x_t = (p_t, th_t) is a hidden Markov chain driven by odometry (particle_motion.hpp);
 // the map theta (landmark positions, plus a range scale s and offset b, see below) is a static
 // parameter. Each observation y_{t,i} of landmark i is h(x_t, theta_i) + delta, delta a
 // two-component Gaussian mixture with latent indicator I_{t,i} (observation_model.hpp).
@@ -27,7 +27,7 @@
 //     pseudo-observations instead of being forgotten by the step sizes.
 //
 // Odometry calibration (s, b) (calibrate_odometry): the transition density is Gaussian in the
-// increment error e = z - J (s, b) (motion_model.hpp), so its complete-data log-likelihood is
+// increment error e = z - J (s, b) (particle_motion.hpp), so its complete-data log-likelihood is
 // quadratic in (s, b) with statistic (J^T W J, J^T W z). J^T W J does not depend on the poses (a
 // running average); J^T W z is a pair-of-poses additive functional, smoothed by the same kernel:
 //   c_t^k = (1 - g_t) [K c_{t-1}]^k + g_t J^T W sum_l K_kl z_kl,   g_t = c / t^alpha (t: steps).
@@ -77,7 +77,7 @@
 
 #include <Eigen/Core>
 
-#include "motion_model.hpp"
+#include "particle_motion.hpp"
 #include "observation_model.hpp"
 #include "online_em_config.hpp"
 #include "roam/estimator.hpp"
@@ -151,7 +151,7 @@ class OnlineEmSlam : public Estimator {
   void publish(int64_t utime);
 
   OnlineEmConfig config_;
-  MotionModel motion_;
+  ParticleMotion motion_;
   ObservationModel observation_;
   std::mt19937_64 rng_;
 
