@@ -1,6 +1,7 @@
 #include "online_em_slam.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -8,7 +9,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 
-#include "multilateration.hpp"
+#include "roam/estimation/multilateration.hpp"
 #include "roam/options.hpp"
 
 namespace roam {
@@ -370,9 +371,18 @@ void OnlineEmSlam::tryInitialise(int i) {
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
     const double min_spread_m =
         std::max(config_.init_min_spread_m, config_.init_min_spread_fraction * sorted[sorted.size() / 2]);
+    // The shared multilateration (roam::estimation): refused while the positions are near a
+    // line; the consensus of triples with the inlier band gate * sr (at least 1 m, for the
+    // dead-reckoned positions); gate 0: the linear solution on all ranges.
+    std::vector<std::array<double, 2>> points;
+    for (const Eigen::Vector2d& p : positions) points.push_back({p.x(), p.y()});
+    if (estimation::positionSpread(points) < min_spread_m) return;
     const double gate = config_.init_outlier_gate_sigmas;
-    position = multilaterate(positions, ranges, min_spread_m,
-                             gate > 0.0 ? std::max(1.0, gate * sr) : 0.0);
+    std::array<double, 2> beacon_m{0.0, 0.0};
+    const bool solved = gate > 0.0 ? estimation::multilaterateConsensus(points, ranges, std::max(1.0, gate * sr), &beacon_m)
+                                   : estimation::multilaterateLinear(points, ranges, &beacon_m);
+    if (!solved) return;
+    position = Eigen::Vector2d(beacon_m[0], beacon_m[1]);
   }
   if (!position) return;
   landmark.initialised = true;

@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include "feed.hpp"
-#include "multilateration.hpp"
 #include "online_em_slam.hpp"
 #include "roam/options.hpp"
 #include "sim.hpp"
@@ -370,39 +369,6 @@ TEST(OnlineEmConfig, BadValuesNameTheKey) {
   bad.range_bearing_cov = 1.0;  // |rho| >= sr * sb: R is not positive definite
   EXPECT_THROW(OnlineEmSlam{bad}, ConfigError);
   EXPECT_EQ(parse({{"num_particles", "50"}}).num_particles, 50);
-}
-
-TEST(Multilateration, ExactFromNoiseFreeRangesAndRefusedOnALine) {
-  const Eigen::Vector2d beacon(7.0, -3.0);
-  std::vector<Eigen::Vector2d> positions{{0, 0}, {4, 0}, {4, 4}, {0, 4}, {2, 6}};
-  std::vector<double> ranges;
-  for (const auto& p : positions) ranges.push_back((beacon - p).norm());
-  const auto found = multilaterate(positions, ranges, 1.0);
-  ASSERT_TRUE(found.has_value());
-  EXPECT_NEAR((*found - beacon).norm(), 0.0, 1e-9);
-  // On the line y = 0 the mirror image (7, 3) fits as well: refused.
-  std::vector<Eigen::Vector2d> line{{0, 0}, {2, 0}, {4, 0}, {6, 0}};
-  std::vector<double> line_ranges;
-  for (const auto& p : line) line_ranges.push_back((beacon - p).norm());
-  EXPECT_FALSE(multilaterate(line, line_ranges, 1.0).has_value());
-}
-
-TEST(Multilateration, ConsensusIgnoresLongOutliers) {
-  // Twelve exact ranges, five of them 5-30 m too long: least squares on all is pulled off by
-  // metres; the consensus of triples keeps the seven exact ones and is exact.
-  const Eigen::Vector2d beacon(20.0, 15.0);
-  std::vector<Eigen::Vector2d> positions;
-  std::vector<double> ranges;
-  for (int k = 0; k < 12; ++k) {
-    positions.emplace_back(3.0 * k, k % 2 == 0 ? 0.0 : 6.0);
-    ranges.push_back((beacon - positions.back()).norm() + (k % 5 == 1 || k == 4 || k == 10 ? 5.0 + 2.5 * k : 0.0));
-  }
-  const auto plain = multilaterate(positions, ranges, 1.0);
-  const auto robust = multilaterate(positions, ranges, 1.0, 1.0);
-  ASSERT_TRUE(plain.has_value());
-  ASSERT_TRUE(robust.has_value());
-  EXPECT_GT((*plain - beacon).norm(), 1.0);
-  EXPECT_NEAR((*robust - beacon).norm(), 0.0, 1e-6);
 }
 
 }  // namespace
