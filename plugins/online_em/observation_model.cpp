@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 
 namespace roam {
+namespace online_em {
 
 namespace {
 constexpr double kMinDistance_m = 1e-3;  // Jacobian of |m - p| is undefined at the landmark
@@ -96,4 +97,5 @@ void ObservationModel::unpack(const double* stat, Eigen::Matrix4d* information, 
   for (int r = 0; r < 4; ++r) (*vector)[r] = stat[n++];
 }
 
+}  // namespace online_em
 }  // namespace roam

@@ -17,6 +17,7 @@
 #include "online_em_config.hpp"
 
 namespace roam {
+namespace online_em {
 
 constexpr int kStatSize = 14;  // upper triangle of the 4x4 J^T W J (10), then J^T W z (4)
 
@@ -62,4 +63,5 @@ class ObservationModel {
   double range_sigma_m_, bearing_sigma_rad_, range_bearing_cov_;
 };
 
+}  // namespace online_em
 }  // namespace roam

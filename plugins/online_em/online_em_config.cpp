@@ -1,6 +1,7 @@
 #include "online_em_config.hpp"
 
 namespace roam {
+namespace online_em {
 
 void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
   options.add("anchor", &c->anchor, "start_pose (known first pose) or beacons (surveyed prior)")
@@ -91,4 +92,5 @@ std::string validate(const OnlineEmConfig& c) {
   return "";
 }
 
+}  // namespace online_em
 }  // namespace roam

@@ -9,6 +9,7 @@
 #include "roam/options.hpp"
 
 namespace roam {
+namespace online_em {
 
 struct OnlineEmConfig {
   // Frame: "start_pose" (known first pose, beacons unknown: multilateration) or "beacons"
@@ -155,4 +156,5 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* config);
 // "" if the config is usable, else the broken constraint ("num_particles >= 2").
 std::string validate(const OnlineEmConfig& config);
 
+}  // namespace online_em
 }  // namespace roam

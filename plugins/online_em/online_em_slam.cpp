@@ -13,6 +13,7 @@
 #include "roam/options.hpp"
 
 namespace roam {
+namespace online_em {
 
 namespace {
 
@@ -689,4 +690,5 @@ bool OnlineEmSlam::trajectory(bool force, Path* path) {
   return true;
 }
 
+}  // namespace online_em
 }  // namespace roam

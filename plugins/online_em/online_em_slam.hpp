@@ -83,6 +83,7 @@
 #include "roam/estimator.hpp"
 
 namespace roam {
+namespace online_em {
 
 class OnlineEmSlam : public Estimator {
  public:
@@ -204,4 +205,5 @@ class OnlineEmSlam : public Estimator {
   int64_t degenerate_weight_steps_ = 0;  // steps where no particle had a finite likelihood
 };
 
+}  // namespace online_em
 }  // namespace roam

@@ -7,6 +7,7 @@
 #include <Eigen/LU>
 
 namespace roam {
+namespace online_em {
 
 void ParticleMotion::setControl(const Odometry& odometry, double dt_s,
                              const estimation::OdometryCalibration& calibration) {
@@ -129,4 +130,5 @@ void ParticleMotion::calibrationStatistic(const ParticlePoses& previous, const P
   }
 }
 
+}  // namespace online_em
 }  // namespace roam

@@ -28,6 +28,7 @@
 #include "roam/types.hpp"
 
 namespace roam {
+namespace online_em {
 
 // Particle poses as structure-of-arrays (world frame; headings unwrapped, continuous).
 struct ParticlePoses {
@@ -76,4 +77,5 @@ class ParticleMotion {
   double steer_rad_ = 0.0, sigma_step_m_ = 0.0;  // bicycle: psi and sigma_v dt
 };
 
+}  // namespace online_em
 }  // namespace roam

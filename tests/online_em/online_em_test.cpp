@@ -15,6 +15,9 @@ namespace {
 using online_em_test::feed;
 using online_em_test::mapError;
 using online_em_test::meanError;
+using online_em::addOnlineEmOptions;
+using online_em::OnlineEmConfig;
+using online_em::OnlineEmSlam;
 
 // Noise-free data: the particles move with ~1e-7 m of proposal noise per step, so the filtered
 // path and the map may differ from the truth only by accumulated rounding and that noise.

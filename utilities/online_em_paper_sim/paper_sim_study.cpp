@@ -11,6 +11,8 @@
 namespace roam {
 namespace paper_sim {
 
+using online_em::OnlineEmSlam;
+
 OnlineEmConfig paperConfig(int particles, uint64_t seed, const std::string& indicators) {
   OnlineEmConfig config;
   config.num_particles = particles;
