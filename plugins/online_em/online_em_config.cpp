@@ -30,6 +30,8 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
               "start_pose: re-run once from the start with the learned calibration");
   options.add("rerun_bias_sigma_fraction", &c->rerun_bias_sigma_fraction,
               "re-run once the bias sigma is below this fraction of its prior").min(0.0, false).max(1.0);
+  options.add("frame_bias_significance_sigmas", &c->frame_bias_significance_sigmas,
+              "also correct the start frame when |bias| >= this many sigmas (0: off)").min(0.0);
   options.add("wheelbase_m", &c->wheelbase_m, "bicycle model wheelbase").min(0.0, false);
   options.add("speed_sigma_mps", &c->speed_sigma_mps, "bicycle model speed noise").min(0.0, false);
   options.add("steer_sigma_rad", &c->steer_sigma_rad, "bicycle model steering noise").min(0.0, false);

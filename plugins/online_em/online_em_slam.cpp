@@ -542,7 +542,13 @@ void OnlineEmSlam::correctFrame() {
   Eigen::Vector2d translation_m = mean_b - Eigen::Rotation2Dd(angle_rad) * mean_a;
   // Significant only beyond twice the heading uncertainty the window's own noise gives the
   // frame (sigma_h sqrt(steps)); below it the frame stays where the data put it.
-  if (std::abs(angle_rad) < 2.0 * config_.odo_heading_sigma_rad * std::sqrt(static_cast<double>(m))) {
+  // Or (frame_bias_significance_sigmas k > 0) when the bias itself is significant, |b| >= k sigma_b:
+  // a bias of 0.002-0.005 rad/s turns a short window by less than that noise, yet rotates the
+  // whole map over the run.
+  const double k = config_.frame_bias_significance_sigmas;
+  const bool bias_significant =
+      k > 0.0 && std::abs(calibration_.heading_rate_bias_rad_s) >= k * heading_rate_bias_sigma_rad_s_;
+  if (!bias_significant && std::abs(angle_rad) < 2.0 * config_.odo_heading_sigma_rad * std::sqrt(static_cast<double>(m))) {
     angle_rad = 0.0;
     translation_m.setZero();
   } else if (recording_ && heading_rate_bias_sigma_rad_s_ <
