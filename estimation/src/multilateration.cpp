@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include <optional>
+
 namespace roam {
 namespace estimation {
 namespace {
@@ -26,7 +28,46 @@ struct RangeError {
   double x_m, y_m, range_m, sigma_m;
 };
 
+// Consensus: Gauss-Newton on the ranges flagged in `use`, from m.
+Eigen::Vector2d refine(const std::vector<Eigen::Vector2d>& positions_m, const std::vector<double>& ranges_m,
+                       const std::vector<bool>& use, Eigen::Vector2d m) {
+  constexpr int kIterations = 10;
+  for (int it = 0; it < kIterations; ++it) {
+    Eigen::Matrix2d h = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d g = Eigen::Vector2d::Zero();
+    for (size_t k = 0; k < positions_m.size(); ++k) {
+      if (!use[k]) continue;
+      const Eigen::Vector2d d = m - positions_m[k];
+      const double distance_m = std::max(d.norm(), 1e-6);
+      const Eigen::Vector2d j = d / distance_m;
+      h += j * j.transpose();
+      g += j * (ranges_m[k] - distance_m);
+    }
+    const Eigen::Vector2d step = h.ldlt().solve(g);
+    if (!step.allFinite()) break;
+    m += step;
+    if (step.norm() < 1e-9) break;
+  }
+  return m;
+}
+
+
 }  // namespace
+
+double positionSpread(const std::vector<std::array<double, 2>>& positions_m) {
+  if (positions_m.size() < 2) return 0.0;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : positions_m) mean += Eigen::Vector2d(p[0], p[1]);
+  mean /= static_cast<double>(positions_m.size());
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
+  for (const auto& p : positions_m) {
+    const Eigen::Vector2d d = Eigen::Vector2d(p[0], p[1]) - mean;
+    covariance += d * d.transpose();
+  }
+  covariance /= static_cast<double>(positions_m.size());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(covariance);
+  return std::sqrt(std::max(eigen.eigenvalues()[0], 0.0));
+}
 
 bool multilaterateLinear(const std::vector<std::array<double, 2>>& positions_m,
                          const std::vector<double>& ranges_m, std::array<double, 2>* beacon_m) {
@@ -220,6 +261,61 @@ bool multilaterateConsensus(const std::vector<std::array<double, 2>>& positions_
     result->inliers += result->inlier[m] ? 1 : 0;
   }
   return std::isfinite(best.x()) && std::isfinite(best.y());
+}
+
+bool multilaterateTriples(const std::vector<std::array<double, 2>>& positions,
+                          const std::vector<double>& ranges_m, double inlier_threshold_m,
+                            std::array<double, 2>* beacon_m) {
+  const int n = static_cast<int>(positions.size());
+  if (n < 3 || static_cast<int>(ranges_m.size()) != n || !(inlier_threshold_m > 0.0)) return false;
+  std::vector<Eigen::Vector2d> positions_m;
+  for (const auto& p : positions) positions_m.emplace_back(p[0], p[1]);
+  std::optional<Eigen::Vector2d> best;
+    // Consensus over every triple (deterministic): the exact 3-range solution (linear in
+    // (m_x, m_y, |m|^2)) refined on its inliers; the one with the most inliers (then the
+    // smallest inlier residual) wins.
+    int best_count = 0;
+    double best_cost = 0.0;
+    std::vector<bool> use(n);
+    for (int a = 0; a < n; ++a)
+      for (int b = a + 1; b < n; ++b)
+        for (int c = b + 1; c < n; ++c) {
+          Eigen::Matrix3d lhs;
+          Eigen::Vector3d rhs;
+          const int idx[3] = {a, b, c};
+          for (int r = 0; r < 3; ++r) {
+            lhs.row(r) << 2.0 * positions_m[idx[r]].x(), 2.0 * positions_m[idx[r]].y(), -1.0;
+            rhs[r] = positions_m[idx[r]].squaredNorm() - ranges_m[idx[r]] * ranges_m[idx[r]];
+          }
+          const Eigen::FullPivLU<Eigen::Matrix3d> lu(lhs);
+          if (!lu.isInvertible()) continue;
+          Eigen::Vector2d m = lu.solve(rhs).head<2>();
+          if (!m.allFinite()) continue;
+          for (int pass = 0; pass < 2; ++pass) {
+            for (int k = 0; k < n; ++k)
+              use[k] = std::abs((m - positions_m[k]).norm() - ranges_m[k]) < inlier_threshold_m;
+            if (std::count(use.begin(), use.end(), true) < 3) break;
+            m = refine(positions_m, ranges_m, use, m);
+          }
+          int count = 0;
+          double cost = 0.0;
+          for (int k = 0; k < n; ++k) {
+            const double e = (m - positions_m[k]).norm() - ranges_m[k];
+            if (std::abs(e) < inlier_threshold_m) {
+              ++count;
+              cost += e * e;
+            }
+          }
+          if (m.allFinite() && count >= 3 && (count > best_count || (count == best_count && cost < best_cost))) {
+            best = m;
+            best_count = count;
+            best_cost = cost;
+          }
+        }
+  if (!best) return false;
+  (*beacon_m)[0] = best->x();
+  (*beacon_m)[1] = best->y();
+  return true;
 }
 
 }  // namespace estimation

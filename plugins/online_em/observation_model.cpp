@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 
 namespace roam {
+namespace online_em {
 
 namespace {
 constexpr double kMinDistance_m = 1e-3;  // Jacobian of |m - p| is undefined at the landmark
@@ -55,6 +56,7 @@ int ObservationModel::linearise(const RangeObservation& y, double x_m, double y_
 double ObservationModel::logLikelihood(const RangeObservation& y, double x_m, double y_m,
                                        double heading_rad, const Eigen::Vector4d& phi,
                                        int component) const {
+  if (component == 1 && uniformOutlier(y)) return -std::log(outlier_span_m_);
   Eigen::Vector2d e;
   Eigen::Matrix<double, 2, 4> j;
   Eigen::Matrix2d w;
@@ -66,6 +68,10 @@ double ObservationModel::logLikelihood(const RangeObservation& y, double x_m, do
 void ObservationModel::statistic(const RangeObservation& y, double x_m, double y_m,
                                  double heading_rad, const Eigen::Vector4d& phi, int component,
                                  double* out) const {
+  if (component == 1 && uniformOutlier(y)) {
+    std::fill(out, out + kStatSize, 0.0);
+    return;
+  }
   Eigen::Vector2d e;
   Eigen::Matrix<double, 2, 4> j;
   Eigen::Matrix2d w;
@@ -91,4 +97,5 @@ void ObservationModel::unpack(const double* stat, Eigen::Matrix4d* information, 
   for (int r = 0; r < 4; ++r) (*vector)[r] = stat[n++];
 }
 
+}  // namespace online_em
 }  // namespace roam

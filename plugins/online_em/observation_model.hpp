@@ -17,6 +17,7 @@
 #include "online_em_config.hpp"
 
 namespace roam {
+namespace online_em {
 
 constexpr int kStatSize = 14;  // upper triangle of the 4x4 J^T W J (10), then J^T W z (4)
 
@@ -44,6 +45,13 @@ class ObservationModel {
 
   double componentScale(int component) const { return component == 0 ? sigma0_ : sigma1_; }
 
+  // Outlier component of a range-only observation: uniform over [0, span_m] (span_m > 0; its
+  // statistic is zero: an outlier says nothing about theta), else the wide Gaussian.
+  void setOutlierSpan(double span_m) { outlier_span_m_ = span_m; }
+  // The inlier component's scale (in units of sr), as estimated by the M-step.
+  void setInlierScale(double sigma0) { sigma0_ = sigma0; }
+  bool uniformOutlier(const RangeObservation& y) const { return !y.has_bearing && outlier_span_m_ > 0.0; }
+
  private:
   // Residual y - h(x, phi) (bearing wrapped), Jacobian J = dh/dphi and W for the component.
   int linearise(const RangeObservation& y, double x_m, double y_m, double heading_rad,
@@ -51,7 +59,9 @@ class ObservationModel {
                 Eigen::Matrix<double, 2, 4>* jacobian, Eigen::Matrix2d* weight) const;
 
   double sigma0_, sigma1_;
+  double outlier_span_m_ = 0.0;
   double range_sigma_m_, bearing_sigma_rad_, range_bearing_cov_;
 };
 
+}  // namespace online_em
 }  // namespace roam

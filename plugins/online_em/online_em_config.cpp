@@ -1,6 +1,7 @@
 #include "online_em_config.hpp"
 
 namespace roam {
+namespace online_em {
 
 void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
   using C = OnlineEmConfig;
@@ -32,6 +33,8 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
               "start_pose: re-run once from the start with the learned calibration");
   options.add("rerun_bias_sigma_fraction", &c->rerun_bias_sigma_fraction,
               "re-run once the bias sigma is below this fraction of its prior").min(0.0, false).max(1.0);
+  options.add("frame_bias_significance_sigmas", &c->frame_bias_significance_sigmas,
+              "also correct the start frame when |bias| >= this many sigmas (0: off)").min(0.0);
   options.add("wheelbase_m", &c->wheelbase_m, "bicycle model wheelbase").min(0.0, false);
   options.add("speed_sigma_mps", &c->speed_sigma_mps, "bicycle model speed noise").min(0.0, false);
   options.add("steer_sigma_rad", &c->steer_sigma_rad, "bicycle model steering noise").min(0.0, false);
@@ -47,6 +50,11 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
   options.add("range_bearing_cov", &c->range_bearing_cov, "off-diagonal of R");
   options.add("indicators", &c->indicators, {{"sampled", C::Indicators::kSampled}, {"marginal", C::Indicators::kMarginal}},
               "sampled (Algorithm 1) or marginal (Rao-Blackwellised)");
+  options.add("outlier_model", &c->outlier_model, {{"uniform", C::OutlierModel::kUniform}, {"gaussian", C::OutlierModel::kGaussian}},
+              "uniform (over the range span) or gaussian (sigma1)");
+  options.add("estimate_mixture", &c->estimate_mixture, "outlier weight and inlier sigma in the M-step");
+  options.add("estimate_inlier_sigma", &c->estimate_inlier_sigma, "inlier sigma in the M-step (with estimate_mixture)");
+  options.add("mixture_prior_count", &c->mixture_prior_count, "pseudo-ranges of the mixture prior").min(0.0);
   options.add("step_c", &c->step_c, "step size gamma_n = c / n^alpha").min(0.0, false).max(1.0);
   options.add("step_alpha", &c->step_alpha, "step size exponent, in (0.5, 1]").min(0.5, false).max(1.0);
   options.add("mstep_every", &c->mstep_every, "M-step every k observing steps").min(1);
@@ -73,4 +81,5 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
       "range_bearing_cov^2 < (range_sigma_m * bearing_sigma_rad)^2 (R positive definite)");
 }
 
+}  // namespace online_em
 }  // namespace roam

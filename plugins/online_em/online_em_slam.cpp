@@ -1,6 +1,7 @@
 #include "online_em_slam.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -8,10 +9,11 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 
-#include "multilateration.hpp"
+#include "roam/estimation/multilateration.hpp"
 #include "roam/options.hpp"
 
 namespace roam {
+namespace online_em {
 
 namespace {
 
@@ -46,6 +48,8 @@ OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
   calibration_statistics_ = Eigen::MatrixXd::Zero(n, 2);
   recording_ = config_.calibrated_rerun && config_.calibrate_odometry && config_.anchor == OnlineEmConfig::Anchor::kStartPose &&
                config_.motion_model == OnlineEmConfig::MotionModel::kOdometry;
+  mixture_weight0_ = config_.mixture_weight0;
+  inlier_sigma0_ = config_.mixture_sigma0;
   setDiagnostic("num_particles", n);
 }
 
@@ -131,6 +135,10 @@ void OnlineEmSlam::addRange(const Range& range) {
     return;
   }
   if (recording_ && !replaying_) inputs_.push_back({false, Odometry{}, range});
+  if (config_.outlier_model == OnlineEmConfig::OutlierModel::kUniform && range.range_m > max_range_m_) {
+    max_range_m_ = range.range_m;
+    observation_.setOutlierSpan(max_range_m_);
+  }
   queued_ranges_.push_back(range);
 }
 
@@ -226,6 +234,28 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
   }
   bool degenerate = false;
   weights_ = normalise(log_weight, &degenerate);
+  if (config_.estimate_mixture && config_.indicators == OnlineEmConfig::Indicators::kMarginal) {
+    // Running averages over the ranges (posterior weights): P(outlier), and the inliers'
+    // squared residual in units of sr.
+    for (const StepObservation& obs : observations) {
+      if (obs.y.has_bearing) continue;
+      const Eigen::Vector4d phi_i = phi(obs.landmark);
+      const double sr = obs.y.sigma_m > 0.0 ? obs.y.sigma_m : config_.range_sigma_m;
+      double outlier = 0.0, inlier_e2 = 0.0;
+      for (int k = 0; k < n; ++k) {
+        double x, y, th;
+        interpolate(k, obs.fraction, &x, &y, &th);
+        const double e = obs.y.range_m - (phi_i[2] * std::hypot(phi_i[0] - x, phi_i[1] - y) + phi_i[3]);
+        outlier += weights_[k] * obs.wide_probability[k];
+        inlier_e2 += weights_[k] * (1.0 - obs.wide_probability[k]) * e * e / (sr * sr);
+      }
+      ++mixture_ranges_;
+      const double gamma = std::min(1.0, config_.step_c / std::pow(static_cast<double>(mixture_ranges_), config_.step_alpha));
+      mean_outlier_ = (1.0 - gamma) * mean_outlier_ + gamma * outlier;
+      mean_inlier_e2_ = (1.0 - gamma) * mean_inlier_e2_ + gamma * inlier_e2;
+      mean_inlier_ = (1.0 - gamma) * mean_inlier_ + gamma * (1.0 - outlier);
+    }
+  }
   if (degenerate) setDiagnostic("degenerate_weight_steps", ++degenerate_weight_steps_);
   if (!observations.empty()) {
     const double ess = 1.0 / weights_.square().sum();
@@ -237,6 +267,7 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
   // 2. Stochastic approximation with forward smoothing; 3. M-step.
   smoothStatistics(observations);
   if (!observations.empty() && ++observing_steps_ % config_.mstep_every == 0) {
+    mixtureMStep();
     mStep();
     calibrationMStep();
     correctFrame();
@@ -298,7 +329,7 @@ void OnlineEmSlam::smoothStatistics(std::vector<StepObservation>& observations) 
 double OnlineEmSlam::mixtureLogLikelihood(const RangeObservation& y, double x_m, double y_m,
                                           double heading_rad, const Eigen::Vector4d& phi_i,
                                           double* wide_probability) const {
-  const double w0 = config_.mixture_weight0;
+  const double w0 = mixture_weight0_;
   const double l0 = std::log(w0) + observation_.logLikelihood(y, x_m, y_m, heading_rad, phi_i, 0);
   if (w0 >= 1.0) {
     *wide_probability = 0.0;
@@ -340,9 +371,18 @@ void OnlineEmSlam::tryInitialise(int i) {
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
     const double min_spread_m =
         std::max(config_.init_min_spread_m, config_.init_min_spread_fraction * sorted[sorted.size() / 2]);
+    // The shared multilateration (roam::estimation): refused while the positions are near a
+    // line; the consensus of triples with the inlier band gate * sr (at least 1 m, for the
+    // dead-reckoned positions); gate 0: the linear solution on all ranges.
+    std::vector<std::array<double, 2>> points;
+    for (const Eigen::Vector2d& p : positions) points.push_back({p.x(), p.y()});
+    if (estimation::positionSpread(points) < min_spread_m) return;
     const double gate = config_.init_outlier_gate_sigmas;
-    position = multilaterate(positions, ranges, min_spread_m,
-                             gate > 0.0 ? std::max(1.0, gate * sr) : 0.0);
+    std::array<double, 2> beacon_m{0.0, 0.0};
+    const bool solved = gate > 0.0 ? estimation::multilaterateTriples(points, ranges, std::max(1.0, gate * sr), &beacon_m)
+                                   : estimation::multilaterateLinear(points, ranges, &beacon_m);
+    if (!solved) return;
+    position = Eigen::Vector2d(beacon_m[0], beacon_m[1]);
   }
   if (!position) return;
   landmark.initialised = true;
@@ -436,6 +476,20 @@ void OnlineEmSlam::mStep() {
   emitMap(currentMap());
 }
 
+void OnlineEmSlam::mixtureMStep() {
+  if (!config_.estimate_mixture || config_.indicators != OnlineEmConfig::Indicators::kMarginal || mixture_ranges_ == 0) return;
+  const double n = static_cast<double>(mixture_ranges_), n0 = config_.mixture_prior_count;
+  const double w1 = (n * mean_outlier_ + n0 * (1.0 - config_.mixture_weight0)) / (n + n0);
+  const double s0 = config_.mixture_sigma0;
+  const double variance = (n * mean_inlier_e2_ + n0 * s0 * s0) / (n * mean_inlier_ + n0);
+  if (!std::isfinite(w1) || !std::isfinite(variance)) return;
+  mixture_weight0_ = 1.0 - std::clamp(w1, 1.0 - config_.mixture_weight0, 0.6);
+  if (config_.estimate_inlier_sigma) inlier_sigma0_ = std::max(s0, std::sqrt(variance));
+  observation_.setInlierScale(inlier_sigma0_);
+  setDiagnostic("mixture_outlier_weight", 1.0 - mixture_weight0_);
+  setDiagnostic("mixture_inlier_sigma_scale", inlier_sigma0_);
+}
+
 void OnlineEmSlam::calibrationMStep() {
   if (!config_.calibrate_odometry || config_.motion_model != OnlineEmConfig::MotionModel::kOdometry || motion_steps_ == 0 || replaying_) return;
   const double n = static_cast<double>(motion_steps_);
@@ -487,7 +541,13 @@ void OnlineEmSlam::correctFrame() {
   Eigen::Vector2d translation_m = mean_b - Eigen::Rotation2Dd(angle_rad) * mean_a;
   // Significant only beyond twice the heading uncertainty the window's own noise gives the
   // frame (sigma_h sqrt(steps)); below it the frame stays where the data put it.
-  if (std::abs(angle_rad) < 2.0 * config_.odo_heading_sigma_rad * std::sqrt(static_cast<double>(m))) {
+  // Or (frame_bias_significance_sigmas k > 0) when the bias itself is significant, |b| >= k sigma_b:
+  // a bias of 0.002-0.005 rad/s turns a short window by less than that noise, yet rotates the
+  // whole map over the run.
+  const double k = config_.frame_bias_significance_sigmas;
+  const bool bias_significant =
+      k > 0.0 && std::abs(calibration_.heading_rate_bias_rad_s) >= k * heading_rate_bias_sigma_rad_s_;
+  if (!bias_significant && std::abs(angle_rad) < 2.0 * config_.odo_heading_sigma_rad * std::sqrt(static_cast<double>(m))) {
     angle_rad = 0.0;
     translation_m.setZero();
   } else if (recording_ && heading_rate_bias_sigma_rad_s_ <
@@ -635,4 +695,5 @@ bool OnlineEmSlam::trajectory(bool force, Path* path) {
   return true;
 }
 
+}  // namespace online_em
 }  // namespace roam

@@ -1,7 +1,7 @@
 // Online EM SLAM — Le Corff, Fort & Moulines, "Online Expectation Maximization algorithm to
 // solve the SLAM problem", IEEE SSP 2011.
 //
-// Model. The pose x_t = (p_t, th_t) is a hidden Markov chain driven by odometry (motion_model.hpp);
+// Model. The pose x_t = (p_t, th_t) is a hidden Markov chain driven by odometry (particle_motion.hpp);
 // the map theta (landmark positions, plus a range scale s and offset b, see below) is a static
 // parameter. Each observation y_{t,i} of landmark i is h(x_t, theta_i) + delta, delta a
 // two-component Gaussian mixture with latent indicator I_{t,i} (observation_model.hpp).
@@ -27,7 +27,7 @@
 //     pseudo-observations instead of being forgotten by the step sizes.
 //
 // Odometry calibration (s, b) (calibrate_odometry): the transition density is Gaussian in the
-// increment error e = z - J (s, b) (motion_model.hpp), so its complete-data log-likelihood is
+// increment error e = z - J (s, b) (particle_motion.hpp), so its complete-data log-likelihood is
 // quadratic in (s, b) with statistic (J^T W J, J^T W z). J^T W J does not depend on the poses (a
 // running average); J^T W z is a pair-of-poses additive functional, smoothed by the same kernel:
 //   c_t^k = (1 - g_t) [K c_{t-1}]^k + g_t J^T W sum_l K_kl z_kl,   g_t = c / t^alpha (t: steps).
@@ -77,12 +77,13 @@
 
 #include <Eigen/Core>
 
-#include "motion_model.hpp"
+#include "particle_motion.hpp"
 #include "observation_model.hpp"
 #include "online_em_config.hpp"
 #include "roam/estimator.hpp"
 
 namespace roam {
+namespace online_em {
 
 class OnlineEmSlam : public Estimator {
  public:
@@ -102,6 +103,8 @@ class OnlineEmSlam : public Estimator {
   double rangeOffset() const { return range_offset_m_; }
   const estimation::OdometryCalibration& odometryCalibration() const { return calibration_; }
   const Path& filteredPath() const { return path_; }
+  double outlierWeight() const { return 1.0 - mixture_weight0_; }
+  double inlierSigmaScale() const { return inlier_sigma0_; }
   const ParticlePoses& particles() const { return particles_; }
   const Eigen::ArrayXd& weights() const { return weights_; }
 
@@ -140,6 +143,7 @@ class OnlineEmSlam : public Estimator {
   double mixtureLogLikelihood(const RangeObservation& y, double x_m, double y_m, double heading_rad,
                               const Eigen::Vector4d& phi_i, double* wide_probability) const;
   void mStep();
+  void mixtureMStep();
   void calibrationMStep();
   void correctFrame();
   void applyFrameMotion(double angle_rad, const Eigen::Vector2d& translation_m);
@@ -148,7 +152,7 @@ class OnlineEmSlam : public Estimator {
   void publish(int64_t utime);
 
   OnlineEmConfig config_;
-  MotionModel motion_;
+  ParticleMotion motion_;
   ObservationModel observation_;
   std::mt19937_64 rng_;
 
@@ -188,6 +192,12 @@ class OnlineEmSlam : public Estimator {
   double heading_rate_bias_sigma_rad_s_ = kNaN;
   estimation::OdometryCalibration window_calibration_;  // the early window was dead-reckoned with it
   int64_t observing_steps_ = 0;
+  // Mixture in theta: the outlier span, the current (w0, sigma0) and the running averages of
+  // P(outlier), (1 - P(outlier)) e^2 / sr^2 and (1 - P(outlier)) over the ranges.
+  double max_range_m_ = 0.0;
+  double mixture_weight0_ = 0.8, inlier_sigma0_ = 1.0;
+  double mean_outlier_ = 0.0, mean_inlier_e2_ = 0.0, mean_inlier_ = 0.0;
+  int64_t mixture_ranges_ = 0;
   Path path_;  // filtered means, one per step (the start pose first)
   double sum_effective_predecessors_ = 0.0;
   int64_t smoothing_steps_ = 0;
@@ -195,4 +205,5 @@ class OnlineEmSlam : public Estimator {
   int64_t degenerate_weight_steps_ = 0;  // steps where no particle had a finite likelihood
 };
 
+}  // namespace online_em
 }  // namespace roam

@@ -6,10 +6,10 @@
 namespace {
 
 std::unique_ptr<roam::Estimator> makeOnlineEm(roam::Options& options) {
-  roam::OnlineEmConfig config;
-  roam::addOnlineEmOptions(options, &config);
+  roam::online_em::OnlineEmConfig config;
+  roam::online_em::addOnlineEmOptions(options, &config);
   options.parse();
-  return std::make_unique<roam::OnlineEmSlam>(config);
+  return std::make_unique<roam::online_em::OnlineEmSlam>(config);
 }
 
 }  // namespace

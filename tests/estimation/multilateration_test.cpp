@@ -12,6 +12,14 @@ namespace roam {
 namespace estimation {
 namespace {
 
+TEST(Multilateration, PositionSpreadIsTheDistanceFromALine) {
+  EXPECT_EQ(positionSpread({}), 0.0);
+  EXPECT_EQ(positionSpread({{1.0, 2.0}}), 0.0);
+  // On a line (any direction): 0; a 4 x 2 m rectangle's corners: the short side's half, 1 m.
+  EXPECT_NEAR(positionSpread({{0.0, 0.0}, {1.0, 1.0}, {3.0, 3.0}}), 0.0, 1e-9);
+  EXPECT_NEAR(positionSpread({{0.0, 0.0}, {4.0, 0.0}, {4.0, 2.0}, {0.0, 2.0}}), 1.0, 1e-12);
+}
+
 TEST(Multilateration, ExactOnNoiseFreeRanges) {
   const std::array<double, 2> beacon{12.5, -7.25};
   std::vector<std::array<double, 2>> positions{{0, 0}, {10, 0}, {0, 10}, {-5, 3}, {7, 8}};
@@ -121,6 +129,27 @@ TEST(MultilaterationConsensus, HoldsWithFortyPercentOfRangesArbitrarilyWrong) {
   ASSERT_TRUE(multilaterateConsensus(positions, ranges, tolerance, &again2, 50));
   EXPECT_EQ(again.point_m, again2.point_m);
   EXPECT_LT(std::hypot(again.point_m[0] - beacon[0], again.point_m[1] - beacon[1]), 1.5);
+}
+
+TEST(Multilateration, TriplesIgnoreLongOutliers) {
+  // Twelve exact ranges, five of them 5-30 m too long: the linear solution on all is pulled off
+  // by metres; the consensus of triples keeps the seven exact ones and is exact.
+  const std::array<double, 2> beacon{20.0, 15.0};
+  std::vector<std::array<double, 2>> positions;
+  std::vector<double> ranges;
+  for (int k = 0; k < 12; ++k) {
+    positions.push_back({3.0 * k, k % 2 == 0 ? 0.0 : 6.0});
+    const double true_m = std::hypot(beacon[0] - positions.back()[0], beacon[1] - positions.back()[1]);
+    ranges.push_back(true_m + (k % 5 == 1 || k == 4 || k == 10 ? 5.0 + 2.5 * k : 0.0));
+  }
+  std::array<double, 2> plain{}, robust{};
+  ASSERT_TRUE(multilaterateLinear(positions, ranges, &plain));
+  ASSERT_TRUE(multilaterateTriples(positions, ranges, 1.0, &robust));
+  EXPECT_GT(std::hypot(plain[0] - beacon[0], plain[1] - beacon[1]), 1.0);
+  EXPECT_NEAR(std::hypot(robust[0] - beacon[0], robust[1] - beacon[1]), 0.0, 1e-6);
+  // Fewer than 3 ranges within the band of any triple's solution, or no band: refused.
+  EXPECT_FALSE(multilaterateTriples({{0, 0}, {1, 0}}, {1.0, 1.0}, 1.0, &robust));
+  EXPECT_FALSE(multilaterateTriples(positions, ranges, 0.0, &robust));
 }
 
 }  // namespace

@@ -28,10 +28,10 @@ roam::Dataset plazaSized() {
 
 void BM_PlazaSizedReplay(benchmark::State& state) {
   const roam::Dataset data = plazaSized();
-  roam::OnlineEmConfig config;
+  roam::online_em::OnlineEmConfig config;
   config.num_particles = static_cast<int>(state.range(0));
   for (auto _ : state) {
-    roam::OnlineEmSlam slam(config);
+    roam::online_em::OnlineEmSlam slam(config);
     roam::online_em_test::feed(data, slam);
     benchmark::DoNotOptimize(slam.filteredPath().back().x_m);
     state.counters["mean_error_m"] = roam::online_em_test::meanError(slam.filteredPath(), data.ground_truth);

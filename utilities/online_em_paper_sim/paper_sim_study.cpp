@@ -11,6 +11,8 @@
 namespace roam {
 namespace paper_sim {
 
+using online_em::OnlineEmSlam;
+
 OnlineEmConfig paperConfig(int particles, uint64_t seed, const std::string& indicators) {
   OnlineEmConfig config;
   config.num_particles = particles;
@@ -26,7 +28,7 @@ OnlineEmConfig paperConfig(int particles, uint64_t seed, const std::string& indi
   config.range_sigma_m = kSigmaR_m;
   config.bearing_sigma_rad = kSigmaB_rad;
   config.range_bearing_cov = kRho;
-  setOptions(&config, addOnlineEmOptions, {{"indicators", indicators}});  // sampled: Algorithm 1
+  setOptions(&config, online_em::addOnlineEmOptions, {{"indicators", indicators}});  // sampled: Algorithm 1
   config.resampling = OnlineEmConfig::Resampling::kMultinomial;           // Algorithm 1
   config.step_c = 1.0;                // gamma = 1 / t^0.8
   config.step_alpha = 0.8;

@@ -17,6 +17,9 @@
 namespace roam {
 namespace paper_sim {
 
+// The online EM core (plugins/online_em) lives in roam::online_em.
+using online_em::OnlineEmConfig;
+
 struct StudyOptions {
   int runs = 50;
   int steps = kPaperSteps;

@@ -1,5 +1,5 @@
-// Motion models of the online EM particle filter: sampling from the prior kernel
-// m(x_t | x_{t-1}, u_t) (the proposal, as in the paper's Sec. 4.1) and its log density, which
+// Particle motion of the online EM filter, over roam::estimation's shared SE(2) motion model:
+// sampling from the prior kernel m(x_t | x_{t-1}, u_t) (the proposal, as in the paper's Sec. 4.1) and its log density, which
 // the forward-smoothing recursion evaluates for every (new particle, old particle) pair.
 //
 // "odometry" (roam's shared SE(2) model, roam::estimation::composeIncrement): the calibrated
@@ -28,6 +28,7 @@
 #include "roam/types.hpp"
 
 namespace roam {
+namespace online_em {
 
 // Particle poses as structure-of-arrays (world frame; headings unwrapped, continuous).
 struct ParticlePoses {
@@ -40,9 +41,9 @@ struct ParticlePoses {
   int size() const { return static_cast<int>(x_m.size()); }
 };
 
-class MotionModel {
+class ParticleMotion {
  public:
-  explicit MotionModel(const OnlineEmConfig& config) : config_(config) {}
+  explicit ParticleMotion(const OnlineEmConfig& config) : config_(config) {}
 
   // Sets the control of the step (odometry over dt_s seconds) and the odometry calibration.
   void setControl(const Odometry& odometry, double dt_s, const estimation::OdometryCalibration& calibration);
@@ -76,4 +77,5 @@ class MotionModel {
   double steer_rad_ = 0.0, sigma_step_m_ = 0.0;  // bicycle: psi and sigma_v dt
 };
 
+}  // namespace online_em
 }  // namespace roam

@@ -1,4 +1,4 @@
-#include "motion_model.hpp"
+#include "particle_motion.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,8 +7,9 @@
 #include <Eigen/LU>
 
 namespace roam {
+namespace online_em {
 
-void MotionModel::setControl(const Odometry& odometry, double dt_s,
+void ParticleMotion::setControl(const Odometry& odometry, double dt_s,
                              const estimation::OdometryCalibration& calibration) {
   bicycle_ = config_.motion_model == OnlineEmConfig::MotionModel::kBicycle;
   const double distance_m = odometry.forward_m, dheading_rad = odometry.delta_heading_rad;
@@ -45,7 +46,7 @@ void MotionModel::setControl(const Odometry& odometry, double dt_s,
   sigma_heading_rad_ = config_.heading_jitter_rad;
 }
 
-void MotionModel::sample(const ParticlePoses& previous, int from, ParticlePoses* next, int to,
+void ParticleMotion::sample(const ParticlePoses& previous, int from, ParticlePoses* next, int to,
                          std::mt19937_64& rng) const {
   std::normal_distribution<double> normal(0.0, 1.0);
   const double x = previous.x_m[from], y = previous.y_m[from], th = previous.heading_rad[from];
@@ -69,7 +70,7 @@ void MotionModel::sample(const ParticlePoses& previous, int from, ParticlePoses*
   next->heading_rad[to] = th + step_m * std::sin(steer_rad) / config_.wheelbase_m + jitter_rad;
 }
 
-void MotionModel::logKernel(const ParticlePoses& previous, const ParticlePoses& next,
+void ParticleMotion::logKernel(const ParticlePoses& previous, const ParticlePoses& next,
                             const Eigen::ArrayXd& log_weight, Eigen::MatrixXd* log_kernel) const {
   const int n_next = next.size(), n_prev = previous.size();
   log_kernel->resize(n_next, n_prev);
@@ -105,7 +106,7 @@ void MotionModel::logKernel(const ParticlePoses& previous, const ParticlePoses& 
   }
 }
 
-void MotionModel::calibrationStatistic(const ParticlePoses& previous, const ParticlePoses& next,
+void ParticleMotion::calibrationStatistic(const ParticlePoses& previous, const ParticlePoses& next,
                                        const Eigen::MatrixXd& kernel, Eigen::Matrix2d* information,
                                        Eigen::MatrixXd* vector) const {
   // J = [[u, 0], [v, 0], [0, -dt]] (raw increment), z_kl = (R_l^T (p_k - p_l), th_k - th_l - w).
@@ -129,4 +130,5 @@ void MotionModel::calibrationStatistic(const ParticlePoses& previous, const Part
   }
 }
 
+}  // namespace online_em
 }  // namespace roam
