@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
@@ -99,7 +100,27 @@ UpgradedStates upgradeStates(const Eigen::MatrixXd& Yhat, const std::vector<int>
     out.xy_m = upgrade.xy_m;
     out.state_scale = upgrade.state_scale;
   } else {
-    const Eigen::Matrix2Xd shape = pathUpToSimilarity(half_sq);
+    // Of the candidate shapes (one, unless the path leaves a pencil of quadrics: a figure-8), the
+    // one dead reckoning matches best locally: a wrong upgrade distorts the path.
+    const std::vector<Eigen::Matrix2Xd> candidates = pathCandidatesUpToSimilarity(half_sq);
+    size_t chosen = 0;
+    if (candidates.size() > 1) {
+      Eigen::Matrix2Xd dead_reckoned(2, poses.size());
+      std::vector<int64_t> utime(poses.size());
+      for (size_t j = 0; j < poses.size(); ++j) {
+        dead_reckoned.col(j) << problem.path.x_m[poses[j]], problem.path.y_m[poses[j]];
+        utime[j] = problem.path.utime[poses[j]];
+      }
+      double best = std::numeric_limits<double>::infinity();
+      for (size_t i = 0; i < candidates.size(); ++i) {
+        const double misfit = localShapeMisfit(candidates[i], dead_reckoned, utime, config.window_s);
+        if (misfit < best) {
+          best = misfit;
+          chosen = i;
+        }
+      }
+    }
+    const Eigen::Matrix2Xd& shape = candidates[chosen];
     // The similarity onto one dead-reckoned path, and its mean squared misfit over the stretch
     // that fixes the rotation.
     auto align = [&](const OdometryPath& path, double* misfit_m2) {
