@@ -410,6 +410,24 @@ SpectralSolution solveAtWindow(const SpectralProblem& problem, const SpectralCon
       if (fit.chunks == 0) break;
       const double scale_before = calibrated.path.calibration.distance_scale;
       const std::vector<double> bias_before = calibrated.path.step_bias_rad_s;
+      // Converged: the new calibration turns the path by less than kSettledTurn_rad anywhere and
+      // changes its length by less than kSettledScale, far below what the windows resolve (a
+      // rotation of a 30 m window by 1 mrad moves its ends by 3 cm). No solve again.
+      constexpr double kSettledTurn_rad = 1e-3;
+      constexpr double kSettledScale = 1e-4;
+      {
+        double turn_rad = 0.0, largest_rad = 0.0;
+        for (int k = 0; k + 1 < calibrated.path.size(); ++k) {
+          const double dt_s = 1e-6 * static_cast<double>(calibrated.path.utime[k + 1] - calibrated.path.utime[k]);
+          turn_rad += (fit.step_bias_rad_s[k] - calibrated.path.stepHeadingBias(k)) * dt_s;
+          largest_rad = std::max(largest_rad, std::abs(turn_rad));
+        }
+        if (largest_rad < kSettledTurn_rad && std::abs(fit.distance_scale / scale_before - 1.0) < kSettledScale) {
+          solution.calibration_chunks = fit.chunks;
+          solution.heading_rate_bias_sigma_rad_s = fit.bias_sigma_rad_s;
+          break;
+        }
+      }
       calibrated.path.recalibrate(fit.distance_scale, fit.step_bias_rad_s);
       try {
         pass = solvePass(calibrated, config, &problem.path);
