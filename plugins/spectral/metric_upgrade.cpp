@@ -6,7 +6,7 @@
 
 #include <Eigen/Geometry>
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 // Real roots of c0 + c1 s + c2 s^2 + c3 s^3.
@@ -334,4 +334,4 @@ Eigen::VectorXd headingsFromRangeRates(const Eigen::MatrixXd& range_rate,
   return heading;
 }
 
-}  // namespace roam
+}  // namespace roam::spectral

@@ -31,7 +31,7 @@
 
 #include <Eigen/Dense>
 
-namespace roam {
+namespace roam::spectral {
 
 // The data hold too little to solve (fewer than 4 beacons ranged, no odometry, too few poses
 // with every beacon interpolated) or a geometry that does not determine the solution (a path on
@@ -92,4 +92,4 @@ Eigen::Matrix2Xd learnBeacons(const Eigen::MatrixXd& half_sq, const Eigen::Matri
 Eigen::VectorXd headingsFromRangeRates(const Eigen::MatrixXd& range_rate,
                                        const Eigen::Matrix2Xd& beacons_m);
 
-}  // namespace roam
+}  // namespace roam::spectral

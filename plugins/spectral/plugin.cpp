@@ -7,7 +7,7 @@
 namespace {
 
 std::unique_ptr<roam::Estimator> makeSpectral(roam::Options& options) {
-  roam::SpectralConfig config;
+  roam::spectral::SpectralConfig config;
   std::string anchor = "beacons", mode = "batch";
   options.add("anchor", &anchor, "frame anchor: surveyed beacons or the start pose")
       .oneOf({"beacons", "start_pose"});
@@ -46,9 +46,9 @@ std::unique_ptr<roam::Estimator> makeSpectral(roam::Options& options) {
               "a solution whose median range residual exceeds this x the windows' is solved again with "
               "the window doubled (window_retries); the lowest residual is kept (0: off)").min(0.0);
   options.parse();
-  config.anchor = roam::parseSpectralAnchor(anchor);
-  config.mode = roam::parseSpectralMode(mode);
-  return std::make_unique<roam::SpectralSlam>(config);
+  config.anchor = roam::spectral::parseSpectralAnchor(anchor);
+  config.mode = roam::spectral::parseSpectralMode(mode);
+  return std::make_unique<roam::spectral::SpectralSlam>(config);
 }
 
 }  // namespace

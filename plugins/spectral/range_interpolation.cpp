@@ -7,7 +7,7 @@
 
 #include <Eigen/Dense>
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 // One window's ranges to one beacon: features phi(p) of the dead-reckoned positions in the
@@ -360,4 +360,4 @@ bool RangeInterpolator::rangeRate(int beacon, int pose, double* value) const {
   return true;
 }
 
-}  // namespace roam
+}  // namespace roam::spectral

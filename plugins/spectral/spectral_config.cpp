@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-namespace roam {
+namespace roam::spectral {
 
 void SpectralConfig::validate() const {
   auto fail = [](const std::string& what) { throw std::invalid_argument("spectral: " + what); };
@@ -38,4 +38,4 @@ SpectralMode parseSpectralMode(const std::string& text) {
   throw std::invalid_argument("spectral: mode must be batch | online, got '" + text + "'");
 }
 
-}  // namespace roam
+}  // namespace roam::spectral

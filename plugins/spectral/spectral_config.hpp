@@ -6,7 +6,7 @@
 
 #include <string>
 
-namespace roam {
+namespace roam::spectral {
 
 enum class SpectralAnchor {
   kBeacons,   // least squares to >= 4 surveyed beacons (BEACONS) fixes the frame
@@ -99,4 +99,4 @@ struct SpectralConfig {
 SpectralAnchor parseSpectralAnchor(const std::string& text);  // beacons | start_pose
 SpectralMode parseSpectralMode(const std::string& text);      // batch | online
 
-}  // namespace roam
+}  // namespace roam::spectral

@@ -5,7 +5,7 @@
 
 #include "online_spectral.hpp"
 
-namespace roam {
+namespace roam::spectral {
 
 SpectralSlam::SpectralSlam(const SpectralConfig& config) : config_(config) { config_.validate(); }
 
@@ -124,4 +124,4 @@ bool SpectralSlam::trajectory(bool /*force*/, Path* path) {
   return true;
 }
 
-}  // namespace roam
+}  // namespace roam::spectral

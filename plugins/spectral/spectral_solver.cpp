@@ -10,7 +10,7 @@
 #include "odometry_calibration.hpp"
 #include "thin_svd.hpp"
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 Eigen::Matrix2d rotation(double angle_rad) {
@@ -562,4 +562,4 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
   }
 }
 
-}  // namespace roam
+}  // namespace roam::spectral

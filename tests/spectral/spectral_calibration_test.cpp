@@ -12,7 +12,7 @@
 #include "spectral_slam.hpp"
 #include "spectral_test_util.hpp"
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 using testing::feed;
@@ -220,4 +220,4 @@ TEST(SpectralRefusal, AuvLikeSparseRunPublishesNothingAndSaysWhy) {
 }
 
 }  // namespace
-}  // namespace roam
+}  // namespace roam::spectral

@@ -11,7 +11,7 @@
 #include "spectral_slam.hpp"
 #include "spectral_test_util.hpp"
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 using testing::feed;
@@ -223,9 +223,9 @@ TEST(SpectralSlam, AnchorBeaconsWithoutSurveyFailsClearly) {
 }
 
 }  // namespace
-}  // namespace roam
+}  // namespace roam::spectral
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 TEST(SpectralSlam, TooFewBeaconsEndsWithoutASolutionAndSaysWhy) {
@@ -250,9 +250,9 @@ TEST(SpectralSlam, TooFewBeaconsEndsWithoutASolutionAndSaysWhy) {
 }
 
 }  // namespace
-}  // namespace roam
+}  // namespace roam::spectral
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 TEST(SpectralSlam, APathOnOneCircleCannotFixTheStartPoseUpgradeAndSaysSo) {
@@ -282,9 +282,9 @@ TEST(SpectralSlam, APathOnOneCircleCannotFixTheStartPoseUpgradeAndSaysSo) {
 }
 
 }  // namespace
-}  // namespace roam
+}  // namespace roam::spectral
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 TEST(SpectralSlam, RobustInterpolationKeepsOutliersOutOfThePath) {
@@ -324,4 +324,4 @@ TEST(SpectralSlam, RobustInterpolationKeepsOutliersOutOfThePath) {
 }
 
 }  // namespace
-}  // namespace roam
+}  // namespace roam::spectral
