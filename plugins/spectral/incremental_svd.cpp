@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace roam {
+namespace roam::spectral {
 
 void IncrementalSvd::reset(int rows, int rank) {
   rows_ = rows;
@@ -56,4 +56,4 @@ void IncrementalSvd::addColumns(const Eigen::MatrixXd& B) {
   singular_values_ = s_new;
 }
 
-}  // namespace roam
+}  // namespace roam::spectral

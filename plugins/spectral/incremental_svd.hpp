@@ -11,7 +11,7 @@
 
 #include <Eigen/Dense>
 
-namespace roam {
+namespace roam::spectral {
 
 class IncrementalSvd {
  public:
@@ -32,4 +32,4 @@ class IncrementalSvd {
   Eigen::VectorXd singular_values_;
 };
 
-}  // namespace roam
+}  // namespace roam::spectral

@@ -6,7 +6,7 @@
 
 #include <Eigen/Geometry>
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 // Real roots of c0 + c1 s + c2 s^2 + c3 s^3.
@@ -98,7 +98,7 @@ BeaconUpgrade upgradeWithBeacons(const Eigen::MatrixXd& half_sq,
   return out;
 }
 
-Eigen::Matrix2Xd pathUpToSimilarity(const Eigen::MatrixXd& half_sq) {
+std::vector<Eigen::Matrix2Xd> pathCandidatesUpToSimilarity(const Eigen::MatrixXd& half_sq) {
   const Eigen::Index N = half_sq.rows(), T = half_sq.cols();
   if (N < 4) throw InsufficientData("anchor = start_pose needs >= 4 beacons");
   if (T < 10) throw InsufficientData("anchor = start_pose needs >= 10 poses with ranges");
@@ -140,25 +140,84 @@ Eigen::Matrix2Xd pathUpToSimilarity(const Eigen::MatrixXd& half_sq) {
   gram.selfadjointView<Eigen::Lower>().rankUpdate(D.transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 10, 10>> quadric(
       gram.selfadjointView<Eigen::Lower>());
-  const Eigen::Matrix<double, 10, 1> q = quadric.eigenvectors().col(0);  // smallest eigenvalue
   if (!(quadric.eigenvalues()(1) > 1e-9 * quadric.eigenvalues()(9)))
     throw InsufficientData(
         "anchor = start_pose: the path does not fix the metric upgrade (a straight or degenerate path)");
-  Eigen::Matrix3d Qm;
-  Qm << q(0), q(3), q(4), q(3), q(1), q(5), q(4), q(5), q(2);
-  if (Qm.trace() < 0.0) Qm = -Qm;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> rank2(Qm);
-  const double l1 = rank2.eigenvalues()(2), l2 = rank2.eigenvalues()(1);
-  // Poses on (or near) one circle: |p|^2 is then affine in p, the state factor loses a rank and
-  // the quadric through the learned states is not a paraboloid. The data cannot fix the upgrade.
-  if (!(l2 > 0.0))
+  auto quadraticPart = [](const Eigen::Matrix<double, 10, 1>& q) {
+    Eigen::Matrix3d Qm;
+    Qm << q(0), q(3), q(4), q(3), q(1), q(5), q(4), q(5), q(2);
+    return Qm;
+  };
+  // The path up to a similarity from a quadric whose quadratic part has two positive eigenvalues
+  // (a paraboloid); empty if it has not.
+  std::vector<Eigen::Matrix2Xd> out;
+  auto addShape = [&](const Eigen::Matrix<double, 10, 1>& q) {
+    Eigen::Matrix3d Qm = quadraticPart(q);
+    if (Qm.trace() < 0.0) Qm = -Qm;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> rank2(Qm);
+    const double l1 = rank2.eigenvalues()(2), l2 = rank2.eigenvalues()(1);
+    if (!(l2 > 0.0)) return;
+    Eigen::Matrix<double, 2, 3> R;
+    R.row(0) = std::sqrt(2.0 * l1) * rank2.eigenvectors().col(2).transpose();
+    R.row(1) = std::sqrt(2.0 * l2) * rank2.eigenvectors().col(1).transpose();
+    out.push_back(-R * zn);
+  };
+  // The least-squares quadric (smallest eigenvector) first.
+  const Eigen::Matrix<double, 10, 1> qa = quadric.eigenvectors().col(0);
+  addShape(qa);
+  // A path on two circles (a figure-8) puts the lifted states on two plane sections of the
+  // paraboloid, so a pencil of quadrics passes through them: the paraboloid plus multiples of the
+  // pair of planes. Noise then mixes the two smallest eigenvectors, and the smallest alone is
+  // not a paraboloid (or a wrong one). The paraboloids of the pencil q_a + t q_b are where its
+  // quadratic part is singular: det(Qa + t Qb) = 0, a cubic in t (and q_b itself, t = infinity).
+  const Eigen::Matrix<double, 10, 1> qb = quadric.eigenvectors().col(1);
+  const Eigen::Matrix3d Qa = quadraticPart(qa), Qb = quadraticPart(qb);
+  auto det = [&](double t) { return (Qa + t * Qb).determinant(); };
+  // Cubic through t = -1, 0, 1, 2 (exact).
+  const double dm = det(-1.0), d0 = det(0.0), d1 = det(1.0), d2 = det(2.0);
+  const double c0 = d0;
+  const double c3 = (d2 - 3.0 * d1 + 3.0 * d0 - dm) / 6.0;
+  const double c2 = 0.5 * (d1 + dm) - d0;
+  const double c1 = d1 - d0 - c2 - c3;
+  for (double t : realRoots(c0, c1, c2, c3)) addShape((qa + t * qb).normalized());
+  addShape(qb);
+  if (out.empty())
     throw InsufficientData(
         "anchor = start_pose: the path does not fix the metric upgrade (the learned quadric is not a "
         "paraboloid: poses on or near one circle?)");
-  Eigen::Matrix<double, 2, 3> R;
-  R.row(0) = std::sqrt(2.0 * l1) * rank2.eigenvectors().col(2).transpose();
-  R.row(1) = std::sqrt(2.0 * l2) * rank2.eigenvectors().col(1).transpose();
-  return -R * zn;
+  return out;
+}
+
+Eigen::Matrix2Xd pathUpToSimilarity(const Eigen::MatrixXd& half_sq) {
+  return pathCandidatesUpToSimilarity(half_sq).front();
+}
+
+double localShapeMisfit(const Eigen::Matrix2Xd& shape, const Eigen::Matrix2Xd& dead_reckoned,
+                        const std::vector<int64_t>& utime, double chunk_s) {
+  const int C = static_cast<int>(shape.cols());
+  const int64_t chunk_us = static_cast<int64_t>(std::llround(chunk_s * 1e6));
+  double residual[2] = {0.0, 0.0}, total = 0.0;
+  for (int begin = 0; begin < C;) {
+    int end = begin;
+    while (end < C && utime[end] < utime[begin] + chunk_us) ++end;
+    if (end - begin >= 3) {
+      const Eigen::Matrix2Xd a = shape.middleCols(begin, end - begin).colwise() -
+                                 shape.middleCols(begin, end - begin).rowwise().mean();
+      const Eigen::Matrix2Xd b = dead_reckoned.middleCols(begin, end - begin).colwise() -
+                                 dead_reckoned.middleCols(begin, end - begin).rowwise().mean();
+      const double var_a = a.squaredNorm(), var_b = b.squaredNorm();
+      total += var_b;
+      for (int f = 0; f < 2; ++f) {
+        const double flip = f == 0 ? 1.0 : -1.0;
+        const double cross = (a.row(0).array() * b.row(1).array() - flip * a.row(1).array() * b.row(0).array()).sum();
+        const double dot = (a.row(0).array() * b.row(0).array() + flip * a.row(1).array() * b.row(1).array()).sum();
+        const double m = std::hypot(cross, dot);
+        residual[f] += var_b - (var_a > 0.0 ? m * m / var_a : 0.0);
+      }
+    }
+    begin = end;
+  }
+  return total > 0.0 ? std::min(residual[0], residual[1]) / total : 0.0;
 }
 
 Eigen::Matrix2Xd Similarity::apply(const Eigen::Matrix2Xd& points) const {
@@ -275,4 +334,4 @@ Eigen::VectorXd headingsFromRangeRates(const Eigen::MatrixXd& range_rate,
   return heading;
 }
 
-}  // namespace roam
+}  // namespace roam::spectral

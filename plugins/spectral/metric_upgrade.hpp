@@ -31,7 +31,7 @@
 
 #include <Eigen/Dense>
 
-namespace roam {
+namespace roam::spectral {
 
 // The data hold too little to solve (fewer than 4 beacons ranged, no odometry, too few poses
 // with every beacon interpolated) or a geometry that does not determine the solution (a path on
@@ -53,6 +53,16 @@ BeaconUpgrade upgradeWithBeacons(const Eigen::MatrixXd& half_sq,
 
 // (b), first part: positions up to a similarity. Throws if the path is degenerate.
 Eigen::Matrix2Xd pathUpToSimilarity(const Eigen::MatrixXd& half_sq);
+// The same from every paraboloid of the pencil through the two smallest eigenvectors of the
+// quadric fit (a path on two circles, a figure-8, leaves a pencil of quadrics through the learned
+// states); the least-squares quadric's shape first if it is a paraboloid. Throws if none is.
+std::vector<Eigen::Matrix2Xd> pathCandidatesUpToSimilarity(const Eigen::MatrixXd& half_sq);
+// How far a shape is from a similarity of dead reckoning locally: in consecutive chunks of chunk_s
+// the residual of a rotation-and-scale fit (best reflection) over the dead-reckoned variance,
+// summed over chunks. A wrong upgrade is an affine or worse distortion of the path, which no
+// local similarity undoes; the right one leaves noise only.
+double localShapeMisfit(const Eigen::Matrix2Xd& shape, const Eigen::Matrix2Xd& dead_reckoned,
+                        const std::vector<int64_t>& utime, double chunk_s);
 
 // Best similarity (rotation or reflection, scale, translation) taking src onto dst.
 struct Similarity {
@@ -82,4 +92,4 @@ Eigen::Matrix2Xd learnBeacons(const Eigen::MatrixXd& half_sq, const Eigen::Matri
 Eigen::VectorXd headingsFromRangeRates(const Eigen::MatrixXd& range_rate,
                                        const Eigen::Matrix2Xd& beacons_m);
 
-}  // namespace roam
+}  // namespace roam::spectral

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 struct Chunk {
@@ -176,4 +176,4 @@ CalibrationFit fitOdometryCalibration(const OdometryPath& path, const std::vecto
   return out;
 }
 
-}  // namespace roam
+}  // namespace roam::spectral

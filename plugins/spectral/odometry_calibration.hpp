@@ -27,7 +27,7 @@
 
 #include "odometry_path.hpp"
 
-namespace roam {
+namespace roam::spectral {
 
 struct CalibrationFit {
   double distance_scale = 1.0;          // the new s
@@ -44,4 +44,4 @@ CalibrationFit fitOdometryCalibration(const OdometryPath& path, const std::vecto
                                       const Eigen::Matrix2Xd& xy_m, bool metric, double chunk_s,
                                       double segment_s);
 
-}  // namespace roam
+}  // namespace roam::spectral

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace roam {
+namespace roam::spectral {
 
 void OdometryPath::reset(const Pose& start) {
   utime.assign(1, start.utime);
@@ -90,4 +90,4 @@ bool OdometryPath::positionAt(int64_t at_utime, double* x_m_out, double* y_m_out
   return true;
 }
 
-}  // namespace roam
+}  // namespace roam::spectral

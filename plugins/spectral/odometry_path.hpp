@@ -19,7 +19,7 @@
 #include "roam/estimation/motion_model.hpp"
 #include "roam/types.hpp"
 
-namespace roam {
+namespace roam::spectral {
 
 struct OdometryPath {
   std::vector<int64_t> utime;
@@ -53,4 +53,4 @@ struct OdometryPath {
   void stepFromLast(const Odometry& odometry, double bias_rad_s);
 };
 
-}  // namespace roam
+}  // namespace roam::spectral

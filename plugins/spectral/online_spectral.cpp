@@ -6,7 +6,7 @@
 
 #include "thin_svd.hpp"
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 // The first `poses` poses of a path.
@@ -147,4 +147,4 @@ Path OnlineSpectral::currentTrajectory(const SpectralProblem& problem) const {
                             config_.window_s);
 }
 
-}  // namespace roam
+}  // namespace roam::spectral

@@ -23,7 +23,7 @@
 #include "spectral_config.hpp"
 #include "spectral_solver.hpp"
 
-namespace roam {
+namespace roam::spectral {
 
 class OnlineSpectral {
  public:
@@ -57,4 +57,4 @@ class OnlineSpectral {
   std::string hold_reason_ = "spectral online: no window closed yet";
 };
 
-}  // namespace roam
+}  // namespace roam::spectral

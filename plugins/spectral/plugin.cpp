@@ -5,10 +5,10 @@
 namespace {
 
 std::unique_ptr<roam::Estimator> makeSpectral(roam::Options& options) {
-  roam::SpectralConfig config;
-  roam::addSpectralOptions(options, &config);
+  roam::spectral::SpectralConfig config;
+  roam::spectral::addSpectralOptions(options, &config);
   options.parse();
-  return std::make_unique<roam::SpectralSlam>(config);
+  return std::make_unique<roam::spectral::SpectralSlam>(config);
 }
 
 }  // namespace

@@ -7,7 +7,7 @@
 
 #include <Eigen/Dense>
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 // One window's ranges to one beacon: features phi(p) of the dead-reckoned positions in the
@@ -128,7 +128,18 @@ bool fitWindowModel(const Features& phi, const Eigen::VectorXd& target, const In
   // to eps = 50 % (p = 4). The least-squares fit is a candidate too (noise-free data: exact).
   const Eigen::Vector4d least_squares = theta;
   double best_median_m = quantile_abs_residual_m(theta);
-  if (p > 0 && n > p) {
+  // The subsets are needed only when the least-squares residuals show outliers: if every |e| lies
+  // within the biweight's cut-off c s (s the small-sample scale of those residuals, at most
+  // range_sigma_m), the LS fit
+  // already is a start the biweight keeps every range of, and no subset is drawn.
+  bool clean = true;
+  {
+    const double scale_ls_m = std::max(kMinScale_m, 1.4826 * (1.0 + 5.0 / std::max(1, n - p)) * best_median_m);
+    // At most the configured range sigma: outliers inflate the LS residuals' own scale (masking).
+    const double cut_m = kTukeyC * std::min(scale_ls_m, config.range_sigma_m);
+    for (int i = 0; i < n && clean; ++i) clean = abs_residual_m(least_squares, i) < cut_m;
+  }
+  if (!clean && p > 0 && n > p) {
     std::mt19937 generator(kSubsetSeed);
     std::vector<int> subset(p);
     for (int trial = 0; trial < kSubsetTrials; ++trial) {
@@ -349,4 +360,4 @@ bool RangeInterpolator::rangeRate(int beacon, int pose, double* value) const {
   return true;
 }
 
-}  // namespace roam
+}  // namespace roam::spectral

@@ -22,7 +22,7 @@
 
 #include "odometry_path.hpp"
 
-namespace roam {
+namespace roam::spectral {
 
 struct RangeSample {
   int64_t utime = 0;
@@ -70,4 +70,4 @@ class RangeInterpolator {
   std::vector<std::vector<int>> count_;
 };
 
-}  // namespace roam
+}  // namespace roam::spectral

@@ -1,6 +1,6 @@
 #include "spectral_config.hpp"
 
-namespace roam {
+namespace roam::spectral {
 
 void addSpectralOptions(Options& o, SpectralConfig* c) {
   o.add("anchor", &c->anchor, {{"beacons", SpectralAnchor::kBeacons}, {"start_pose", SpectralAnchor::kStartPose}},
@@ -42,4 +42,4 @@ void addSpectralOptions(Options& o, SpectralConfig* c) {
         "the window doubled (window_retries); the lowest residual is kept (0: off)").min(0.0);
 }
 
-}  // namespace roam
+}  // namespace roam::spectral

@@ -7,7 +7,7 @@
 
 #include "roam/options.hpp"
 
-namespace roam {
+namespace roam::spectral {
 
 enum class SpectralAnchor {
   kBeacons,   // least squares to >= 4 surveyed beacons (BEACONS) fixes the frame
@@ -97,4 +97,4 @@ struct SpectralConfig {
 // Registers every key of the [estimator.*] section with its checks (the shim calls parse()).
 void addSpectralOptions(Options& options, SpectralConfig* config);
 
-}  // namespace roam
+}  // namespace roam::spectral

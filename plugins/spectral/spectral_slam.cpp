@@ -5,7 +5,7 @@
 
 #include "online_spectral.hpp"
 
-namespace roam {
+namespace roam::spectral {
 
 SpectralSlam::SpectralSlam(const SpectralConfig& config) : config_(config) { checkConfig(config_, addSpectralOptions); }
 
@@ -102,8 +102,8 @@ void SpectralSlam::finish() {
   setDiagnostic("state_scale", solution_->state_scale);
   setDiagnostic("window_s", solution_->window_s);
   setDiagnostic("odometry_distance_scale", solution_->calibration.distance_scale);
-  setDiagnostic("gyro_bias_rad_s", solution_->calibration.heading_rate_bias_rad_s);
-  setDiagnostic("gyro_bias_sigma_rad_s", solution_->heading_rate_bias_sigma_rad_s);
+  setDiagnostic("heading_rate_bias_rad_s", solution_->calibration.heading_rate_bias_rad_s);
+  setDiagnostic("heading_rate_bias_sigma_rad_s", solution_->heading_rate_bias_sigma_rad_s);
   setDiagnostic("median_residual_m", solution_->median_residual_m);
   setDiagnostic("window_median_residual_m", solution_->local_median_residual_m);
   setDiagnostic("window_outlier_fraction", solution_->window_outlier_fraction);
@@ -124,4 +124,4 @@ bool SpectralSlam::trajectory(bool /*force*/, Path* path) {
   return true;
 }
 
-}  // namespace roam
+}  // namespace roam::spectral

@@ -27,7 +27,7 @@
 #include "spectral_config.hpp"
 #include "spectral_solver.hpp"
 
-namespace roam {
+namespace roam::spectral {
 
 class OnlineSpectral;
 
@@ -67,4 +67,4 @@ class SpectralSlam : public Estimator {
   std::unique_ptr<OnlineSpectral> online_;
 };
 
-}  // namespace roam
+}  // namespace roam::spectral

@@ -3,13 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
 #include "odometry_calibration.hpp"
 #include "thin_svd.hpp"
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 Eigen::Matrix2d rotation(double angle_rad) {
@@ -99,7 +100,27 @@ UpgradedStates upgradeStates(const Eigen::MatrixXd& Yhat, const std::vector<int>
     out.xy_m = upgrade.xy_m;
     out.state_scale = upgrade.state_scale;
   } else {
-    const Eigen::Matrix2Xd shape = pathUpToSimilarity(half_sq);
+    // Of the candidate shapes (one, unless the path leaves a pencil of quadrics: a figure-8), the
+    // one dead reckoning matches best locally: a wrong upgrade distorts the path.
+    const std::vector<Eigen::Matrix2Xd> candidates = pathCandidatesUpToSimilarity(half_sq);
+    size_t chosen = 0;
+    if (candidates.size() > 1) {
+      Eigen::Matrix2Xd dead_reckoned(2, poses.size());
+      std::vector<int64_t> utime(poses.size());
+      for (size_t j = 0; j < poses.size(); ++j) {
+        dead_reckoned.col(j) << problem.path.x_m[poses[j]], problem.path.y_m[poses[j]];
+        utime[j] = problem.path.utime[poses[j]];
+      }
+      double best = std::numeric_limits<double>::infinity();
+      for (size_t i = 0; i < candidates.size(); ++i) {
+        const double misfit = localShapeMisfit(candidates[i], dead_reckoned, utime, config.window_s);
+        if (misfit < best) {
+          best = misfit;
+          chosen = i;
+        }
+      }
+    }
+    const Eigen::Matrix2Xd& shape = candidates[chosen];
     // The similarity onto one dead-reckoned path, and its mean squared misfit over the stretch
     // that fixes the rotation.
     auto align = [&](const OdometryPath& path, double* misfit_m2) {
@@ -389,6 +410,24 @@ SpectralSolution solveAtWindow(const SpectralProblem& problem, const SpectralCon
       if (fit.chunks == 0) break;
       const double scale_before = calibrated.path.calibration.distance_scale;
       const std::vector<double> bias_before = calibrated.path.step_bias_rad_s;
+      // Converged: the new calibration turns the path by less than kSettledTurn_rad anywhere and
+      // changes its length by less than kSettledScale, far below what the windows resolve (a
+      // rotation of a 30 m window by 1 mrad moves its ends by 3 cm). No solve again.
+      constexpr double kSettledTurn_rad = 1e-3;
+      constexpr double kSettledScale = 1e-4;
+      {
+        double turn_rad = 0.0, largest_rad = 0.0;
+        for (int k = 0; k + 1 < calibrated.path.size(); ++k) {
+          const double dt_s = 1e-6 * static_cast<double>(calibrated.path.utime[k + 1] - calibrated.path.utime[k]);
+          turn_rad += (fit.step_bias_rad_s[k] - calibrated.path.stepHeadingBias(k)) * dt_s;
+          largest_rad = std::max(largest_rad, std::abs(turn_rad));
+        }
+        if (largest_rad < kSettledTurn_rad && std::abs(fit.distance_scale / scale_before - 1.0) < kSettledScale) {
+          solution.calibration_chunks = fit.chunks;
+          solution.heading_rate_bias_sigma_rad_s = fit.bias_sigma_rad_s;
+          break;
+        }
+      }
       calibrated.path.recalibrate(fit.distance_scale, fit.step_bias_rad_s);
       try {
         pass = solvePass(calibrated, config, &problem.path);
@@ -523,4 +562,4 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
   }
 }
 
-}  // namespace roam
+}  // namespace roam::spectral

@@ -23,7 +23,7 @@
 #include "roam/types.hpp"
 #include "spectral_config.hpp"
 
-namespace roam {
+namespace roam::spectral {
 
 struct SpectralProblem {
   OdometryPath path;                 // dead reckoned from the start pose
@@ -91,4 +91,4 @@ double solutionMedianResidual(const SpectralProblem& problem, const SpectralConf
 // Steps 1-4. Throws InsufficientData with the reason if the data cannot be solved.
 SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config);
 
-}  // namespace roam
+}  // namespace roam::spectral

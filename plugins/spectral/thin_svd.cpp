@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-namespace roam {
+namespace roam::spectral {
 
 LeftSvd topLeftSvdFromGram(const Eigen::MatrixXd& gram, int k) {
   if (k < 1 || k > gram.rows()) throw std::invalid_argument("topLeftSvd: k out of range");
@@ -62,4 +62,4 @@ Eigen::VectorXd residualNorms(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
   return out;
 }
 
-}  // namespace roam
+}  // namespace roam::spectral

@@ -7,7 +7,7 @@
 
 #include <Eigen/Dense>
 
-namespace roam {
+namespace roam::spectral {
 
 struct LeftSvd {
   Eigen::MatrixXd U;               // rows x k, orthonormal columns, singular values descending
@@ -27,4 +27,4 @@ Eigen::MatrixXd lowRankProjection(const Eigen::MatrixXd& U, const Eigen::MatrixX
 // The norm of each column's residual off span(U), |y_j - U U^T y_j|, without forming U U^T Y.
 Eigen::VectorXd residualNorms(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y);
 
-}  // namespace roam
+}  // namespace roam::spectral

@@ -14,9 +14,9 @@ namespace spectral_batch {
 bool spectralSeedAvailable() { return true; }
 
 std::unique_ptr<Estimator> makeSpectralSeed(const SpectralBatchConfig& config) {
-  SpectralConfig spectral;
-  spectral.anchor = config.anchor == SpectralBatchConfig::Anchor::kBeacons ? SpectralAnchor::kBeacons : SpectralAnchor::kStartPose;
-  return std::make_unique<SpectralSlam>(spectral);
+  spectral::SpectralConfig spectral;
+  spectral.anchor = config.anchor == SpectralBatchConfig::Anchor::kBeacons ? spectral::SpectralAnchor::kBeacons : spectral::SpectralAnchor::kStartPose;
+  return std::make_unique<spectral::SpectralSlam>(spectral);
 }
 
 #else

@@ -10,7 +10,7 @@
 // grow with N (8 beacons at 2 Hz: 64 s) and then hit its cap, which measures the window rule,
 // not the solver.
 //
-//   BM_Spectral/T:<steps>/N:<beacons>  roam::solveSpectral, rank 7, the plugin's default config
+//   BM_Spectral/T:<steps>/N:<beacons>  roam::spectral::solveSpectral, rank 7, the plugin's default config
 //                                      (robust window fits, anchor = surveyed beacons); the
 //                                      problem is built before timing. Expected O(N^2 T).
 //   BM_Batch/T:<steps>/N:<beacons>     spectral_batch with its default config (spectral seed,
@@ -136,25 +136,25 @@ void setCommonCounters(benchmark::State& state, const roam::Dataset& data, doubl
 
 void BM_Spectral(benchmark::State& state) {
   const int steps = static_cast<int>(state.range(0)), beacons = static_cast<int>(state.range(1));
-  static std::map<std::pair<int, int>, std::unique_ptr<roam::SpectralProblem>> problems;
-  roam::SpectralConfig config;  // rank 7, robust fits, anchor = beacons: the plugin's defaults
+  static std::map<std::pair<int, int>, std::unique_ptr<roam::spectral::SpectralProblem>> problems;
+  roam::spectral::SpectralConfig config;  // rank 7, robust fits, anchor = beacons: the plugin's defaults
   auto& problem = problems[{steps, beacons}];
   if (!problem) {
     const roam::Dataset& data = world(steps, beacons);
-    roam::SpectralSlam slam(config);
+    roam::spectral::SpectralSlam slam(config);
     slam.setInitialPose(data.start);
     slam.setBeacons(data.beacons);
     for (const auto& odometry : data.odometry) slam.addOdometry(odometry);
     for (const auto& range : data.ranges) slam.addRange(range);
-    problem = std::make_unique<roam::SpectralProblem>(slam.problem());
+    problem = std::make_unique<roam::spectral::SpectralProblem>(slam.problem());
   }
   const roam::Dataset& data = world(steps, beacons);
   const double input_rss_mb = statusKb("VmRSS") / 1024.0;
   resetPeakRss();
-  roam::SpectralSolution solution;
+  roam::spectral::SpectralSolution solution;
   const CpuSplit before = CpuSplit::now();
   for (auto _ : state) {
-    solution = roam::solveSpectral(*problem, config);
+    solution = roam::spectral::solveSpectral(*problem, config);
     benchmark::DoNotOptimize(solution.trajectory.data());
   }
   setCommonCounters(state, data, input_rss_mb, before);

@@ -25,8 +25,8 @@ const roam::sim::SimRun& plazaSized() {
   return run;
 }
 
-roam::SpectralProblem problemOf(const roam::sim::SimRun& run, const roam::SpectralConfig& config) {
-  roam::SpectralSlam slam(config);
+roam::spectral::SpectralProblem problemOf(const roam::sim::SimRun& run, const roam::spectral::SpectralConfig& config) {
+  roam::spectral::SpectralSlam slam(config);
   slam.setInitialPose(run.start);
   slam.setBeacons(run.beacons);
   for (const auto& odometry : run.odometry) slam.addOdometry(odometry);
@@ -36,34 +36,34 @@ roam::SpectralProblem problemOf(const roam::sim::SimRun& run, const roam::Spectr
 
 // The whole batch solve: interpolation, Gram SVD, upgrade, bridging.
 void BM_BatchSolve(benchmark::State& state) {
-  roam::SpectralConfig config;
+  roam::spectral::SpectralConfig config;
   config.rank = static_cast<int>(state.range(0));
-  const roam::SpectralProblem problem = problemOf(plazaSized(), config);
-  for (auto _ : state) benchmark::DoNotOptimize(roam::solveSpectral(problem, config));
+  const roam::spectral::SpectralProblem problem = problemOf(plazaSized(), config);
+  for (auto _ : state) benchmark::DoNotOptimize(roam::spectral::solveSpectral(problem, config));
 }
 BENCHMARK(BM_BatchSolve)->Arg(4)->Arg(7)->Unit(benchmark::kMillisecond);
 
 // Baseline in the same run: the paper's plain least-squares window fits, no trimmed refit.
 void BM_BatchSolvePlainLeastSquares(benchmark::State& state) {
-  roam::SpectralConfig config;
+  roam::spectral::SpectralConfig config;
   config.rank = static_cast<int>(state.range(0));
   config.robust_interpolation = false;
-  const roam::SpectralProblem problem = problemOf(plazaSized(), config);
-  for (auto _ : state) benchmark::DoNotOptimize(roam::solveSpectral(problem, config));
+  const roam::spectral::SpectralProblem problem = problemOf(plazaSized(), config);
+  for (auto _ : state) benchmark::DoNotOptimize(roam::spectral::solveSpectral(problem, config));
 }
 BENCHMARK(BM_BatchSolvePlainLeastSquares)->Arg(4)->Arg(7)->Unit(benchmark::kMillisecond);
 
 // Online mode: one odometry step (with its ranges); the mean over the whole run.
 void BM_OnlineStep(benchmark::State& state) {
   const auto& run = plazaSized();
-  roam::SpectralConfig config;
-  config.mode = roam::SpectralMode::kOnline;
-  std::unique_ptr<roam::SpectralSlam> slam;
+  roam::spectral::SpectralConfig config;
+  config.mode = roam::spectral::SpectralMode::kOnline;
+  std::unique_ptr<roam::spectral::SpectralSlam> slam;
   size_t step = 0, r = 0;
   for (auto _ : state) {
     if (!slam || step == run.odometry.size()) {
       state.PauseTiming();
-      slam = std::make_unique<roam::SpectralSlam>(config);
+      slam = std::make_unique<roam::spectral::SpectralSlam>(config);
       slam->setInitialPose(run.start);
       slam->setBeacons(run.beacons);
       step = 0;

@@ -8,7 +8,7 @@
 
 #include "measurement_model_study.hpp"
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 TEST(MeasurementModel, ConvergesAtTheRateOfTheBound) {
@@ -46,4 +46,4 @@ TEST(MeasurementModel, RefusesBadStudies) {
 }
 
 }  // namespace
-}  // namespace roam
+}  // namespace roam::spectral

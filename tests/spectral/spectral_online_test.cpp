@@ -9,7 +9,7 @@
 #include "spectral_test_util.hpp"
 #include "thin_svd.hpp"
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 using testing::feed;
@@ -115,4 +115,4 @@ TEST(OnlineSpectral, AgreesWithBatchAtTheEnd) {
 }
 
 }  // namespace
-}  // namespace roam
+}  // namespace roam::spectral

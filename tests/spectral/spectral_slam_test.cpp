@@ -11,7 +11,7 @@
 #include "spectral_slam.hpp"
 #include "spectral_test_util.hpp"
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 using testing::feed;
@@ -235,9 +235,9 @@ TEST(SpectralSlam, AnchorBeaconsWithoutSurveyFailsClearly) {
 }
 
 }  // namespace
-}  // namespace roam
+}  // namespace roam::spectral
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 TEST(SpectralSlam, TooFewBeaconsEndsWithoutASolutionAndSaysWhy) {
@@ -262,9 +262,9 @@ TEST(SpectralSlam, TooFewBeaconsEndsWithoutASolutionAndSaysWhy) {
 }
 
 }  // namespace
-}  // namespace roam
+}  // namespace roam::spectral
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 TEST(SpectralSlam, APathOnOneCircleCannotFixTheStartPoseUpgradeAndSaysSo) {
@@ -294,9 +294,9 @@ TEST(SpectralSlam, APathOnOneCircleCannotFixTheStartPoseUpgradeAndSaysSo) {
 }
 
 }  // namespace
-}  // namespace roam
+}  // namespace roam::spectral
 
-namespace roam {
+namespace roam::spectral {
 namespace {
 
 TEST(SpectralSlam, RobustInterpolationKeepsOutliersOutOfThePath) {
@@ -336,4 +336,4 @@ TEST(SpectralSlam, RobustInterpolationKeepsOutliersOutOfThePath) {
 }
 
 }  // namespace
-}  // namespace roam
+}  // namespace roam::spectral

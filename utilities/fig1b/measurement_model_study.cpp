@@ -12,6 +12,7 @@
 
 namespace roam {
 namespace {
+using namespace roam::spectral;
 
 // The q-quantile of values by linear interpolation between order statistics.
 double quantile(std::vector<double> values, double q) {
