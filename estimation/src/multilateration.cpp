@@ -1,4 +1,5 @@
 #include "roam/estimation/multilateration.hpp"
+#include "roam/estimation/range_model.hpp"
 
 #include <ceres/ceres.h>
 
@@ -13,7 +14,6 @@ namespace roam {
 namespace estimation {
 namespace {
 
-constexpr double kCauchy95 = 2.385;
 
 struct RangeError {
   RangeError(double x_m, double y_m, double range_m, double sigma_m)

@@ -1,5 +1,7 @@
 #include "ekf_filter.hpp"
 
+#include "roam/estimation/range_model.hpp"
+
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -112,7 +114,7 @@ double EkfFilter::predictRange(int beacon_id, Eigen::RowVectorXd* jacobian) cons
       (*jacobian)(kOffset) = 1.0;
     }
   }
-  return scale * distance_m + offset();
+  return estimation::predictedRange_m(distance_m, scale, offset());
 }
 
 double EkfFilter::predictBearing(int beacon_id, Eigen::RowVectorXd* jacobian) const {

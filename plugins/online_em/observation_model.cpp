@@ -1,5 +1,7 @@
 #include "observation_model.hpp"
 
+#include "roam/estimation/range_model.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -35,7 +37,7 @@ int ObservationModel::linearise(const RangeObservation& y, double x_m, double y_
   (*jacobian)(0, 1) = scale * dy / distance_m;
   (*jacobian)(0, 2) = distance_m;
   (*jacobian)(0, 3) = 1.0;
-  (*residual)[0] = y.range_m - (scale * distance_m + offset_m);
+  (*residual)[0] = y.range_m - estimation::predictedRange_m(distance_m, scale, offset_m);
   if (!y.has_bearing) {
     (*residual)[1] = 0.0;
     weight->setZero();

@@ -192,11 +192,24 @@ Eigen::Matrix2Xd pathUpToSimilarity(const Eigen::MatrixXd& half_sq) {
   return pathCandidatesUpToSimilarity(half_sq).front();
 }
 
-double localShapeMisfit(const Eigen::Matrix2Xd& shape, const Eigen::Matrix2Xd& dead_reckoned,
-                        const std::vector<int64_t>& utime, double chunk_s) {
+namespace {
+
+// Sums over consecutive chunks of chunk_s of time (>= 3 poses each), both paths centred per
+// chunk, for the shape as it is (f = 0) and reflected (f = 1): the residual after each chunk's
+// own best rotation and scale, the matched terms |b . R a|, and the variances of shape and dead
+// reckoning.
+struct LocalShapeSums {
+  double residual[2] = {0.0, 0.0};
+  double matched[2] = {0.0, 0.0};
+  double variance_shape = 0.0;
+  double variance_dead_reckoned = 0.0;
+};
+
+LocalShapeSums localShapeSums(const Eigen::Matrix2Xd& shape, const Eigen::Matrix2Xd& dead_reckoned,
+                              const std::vector<int64_t>& utime, double chunk_s) {
   const int C = static_cast<int>(shape.cols());
   const int64_t chunk_us = static_cast<int64_t>(std::llround(chunk_s * 1e6));
-  double residual[2] = {0.0, 0.0}, total = 0.0;
+  LocalShapeSums sums;
   for (int begin = 0; begin < C;) {
     int end = begin;
     while (end < C && utime[end] < utime[begin] + chunk_us) ++end;
@@ -206,18 +219,30 @@ double localShapeMisfit(const Eigen::Matrix2Xd& shape, const Eigen::Matrix2Xd& d
       const Eigen::Matrix2Xd b = dead_reckoned.middleCols(begin, end - begin).colwise() -
                                  dead_reckoned.middleCols(begin, end - begin).rowwise().mean();
       const double var_a = a.squaredNorm(), var_b = b.squaredNorm();
-      total += var_b;
+      sums.variance_shape += var_a;
+      sums.variance_dead_reckoned += var_b;
       for (int f = 0; f < 2; ++f) {
         const double flip = f == 0 ? 1.0 : -1.0;
+        // a reflected is (a_x, flip a_y).
         const double cross = (a.row(0).array() * b.row(1).array() - flip * a.row(1).array() * b.row(0).array()).sum();
         const double dot = (a.row(0).array() * b.row(0).array() + flip * a.row(1).array() * b.row(1).array()).sum();
         const double m = std::hypot(cross, dot);
-        residual[f] += var_b - (var_a > 0.0 ? m * m / var_a : 0.0);
+        sums.matched[f] += m;
+        sums.residual[f] += var_b - (var_a > 0.0 ? m * m / var_a : 0.0);
       }
     }
     begin = end;
   }
-  return total > 0.0 ? std::min(residual[0], residual[1]) / total : 0.0;
+  return sums;
+}
+
+}  // namespace
+
+double localShapeMisfit(const Eigen::Matrix2Xd& shape, const Eigen::Matrix2Xd& dead_reckoned,
+                        const std::vector<int64_t>& utime, double chunk_s) {
+  const LocalShapeSums sums = localShapeSums(shape, dead_reckoned, utime, chunk_s);
+  const double total = sums.variance_dead_reckoned;
+  return total > 0.0 ? std::min(sums.residual[0], sums.residual[1]) / total : 0.0;
 }
 
 Eigen::Matrix2Xd Similarity::apply(const Eigen::Matrix2Xd& points) const {
@@ -256,31 +281,11 @@ Similarity alignToDeadReckoning(const Eigen::Matrix2Xd& shape, const Eigen::Matr
                                 const std::vector<int64_t>& utime, const std::vector<double>& travelled_m,
                                 double chunk_s, double align_m) {
   const int C = static_cast<int>(shape.cols());
-  const int64_t chunk_us = static_cast<int64_t>(std::llround(chunk_s * 1e6));
-  // Sums over chunks, per reflection: residual after a local fit, |b . R a| terms, var(a).
-  double residual[2] = {0.0, 0.0}, matched[2] = {0.0, 0.0}, variance = 0.0;
-  for (int begin = 0; begin < C;) {
-    int end = begin;
-    while (end < C && utime[end] < utime[begin] + chunk_us) ++end;
-    if (end - begin >= 3) {
-      const Eigen::Matrix2Xd a = shape.middleCols(begin, end - begin).colwise() -
-                                 shape.middleCols(begin, end - begin).rowwise().mean();
-      const Eigen::Matrix2Xd b = dead_reckoned.middleCols(begin, end - begin).colwise() -
-                                 dead_reckoned.middleCols(begin, end - begin).rowwise().mean();
-      const double var_a = a.squaredNorm(), var_b = b.squaredNorm();
-      variance += var_a;
-      for (int f = 0; f < 2; ++f) {
-        const double flip = f == 0 ? 1.0 : -1.0;
-        // a reflected is (a_x, flip a_y).
-        const double cross = (a.row(0).array() * b.row(1).array() - flip * a.row(1).array() * b.row(0).array()).sum();
-        const double dot = (a.row(0).array() * b.row(0).array() + flip * a.row(1).array() * b.row(1).array()).sum();
-        const double m = std::hypot(cross, dot);
-        matched[f] += m;
-        residual[f] += var_b - (var_a > 0.0 ? m * m / var_a : 0.0);
-      }
-    }
-    begin = end;
-  }
+  // Per reflection: residual after a local fit, |b . R a| terms; var(a).
+  const LocalShapeSums sums = localShapeSums(shape, dead_reckoned, utime, chunk_s);
+  const double* residual = sums.residual;
+  const double* matched = sums.matched;
+  const double variance = sums.variance_shape;
   const int f = residual[1] < residual[0] ? 1 : 0;
   const double scale = variance > 0.0 ? matched[f] / variance : 1.0;
   const Eigen::Matrix2d reflect = Eigen::Vector2d(1.0, f == 0 ? 1.0 : -1.0).asDiagonal();

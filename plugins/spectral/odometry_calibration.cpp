@@ -1,4 +1,5 @@
 #include "odometry_calibration.hpp"
+#include "roam/estimation/range_model.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -79,7 +80,7 @@ CalibrationFit fitOdometryCalibration(const OdometryPath& path, const std::vecto
                                       double segment_s) {
   constexpr int kMinChunks = 3;
   constexpr int kMinChunksPerSegment = 4;  // a rate from fewer rotations is mostly noise
-  constexpr double kTukeyC = 4.685;
+  constexpr double kTukeyC = estimation::kTukey95;
   constexpr int kIterations = 10;
   CalibrationFit out;
   out.distance_scale = path.calibration.distance_scale;

@@ -1,4 +1,5 @@
 #include "range_interpolation.hpp"
+#include "roam/estimation/range_model.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -96,10 +97,10 @@ bool fitWindowModel(const Features& phi, const Eigen::VectorXd& target, const In
                     Eigen::Vector4d* model) {
   constexpr int kIterations = 10;
   constexpr double kSettled = 1e-3;  // largest weight change that counts as converged
-  constexpr double kHuberK = 1.345;
+  constexpr double kHuberK = estimation::kHuber95;
   constexpr int kSubsetTrials = 50;
   constexpr uint32_t kSubsetSeed = 20130621u;
-  constexpr double kTukeyC = 4.685;
+  constexpr double kTukeyC = estimation::kTukey95;
   constexpr double kMinScale_m = 0.01;
   const int n = static_cast<int>(phi.cols());
   NormalEquations plain;

@@ -1,13 +1,15 @@
 #include "batch_config.hpp"
 
+#include "roam/estimation/range_model.hpp"
+
 namespace roam {
 namespace spectral_batch {
 
 double effectiveLossScale(const SpectralBatchConfig& c) {
   if (c.loss_scale > 0.0) return c.loss_scale;
-  if (c.loss == SpectralBatchConfig::Loss::kHuber) return 1.345;
-  if (c.loss == SpectralBatchConfig::Loss::kCauchy) return 2.385;
-  if (c.loss == SpectralBatchConfig::Loss::kTukey) return 4.685;
+  if (c.loss == SpectralBatchConfig::Loss::kHuber) return estimation::kHuber95;
+  if (c.loss == SpectralBatchConfig::Loss::kCauchy) return estimation::kCauchy95;
+  if (c.loss == SpectralBatchConfig::Loss::kTukey) return estimation::kTukey95;
   return 1.0;  // none: unused
 }
 

@@ -22,6 +22,8 @@
 // The robust loss is applied by Ceres on top of the whitened range residual.
 #pragma once
 
+#include "roam/estimation/range_model.hpp"
+
 #include <ceres/ceres.h>
 
 #include <Eigen/Core>
@@ -99,7 +101,7 @@ T whitenedRangeError(const T& robot_x_m, const T& robot_y_m, const T* beacon, co
   // The 1e-18 m^2 keeps the derivative finite if the robot sits on the beacon; it moves a range
   // of 1 m by 5e-19 m.
   const T distance_m = sqrt(dx_m * dx_m + dy_m * dy_m + T(1e-18));
-  return (calibration[0] * distance_m + calibration[1] + beacon_offset_m[0] - range_m) / sigma_m;
+  return (estimation::predictedRange_m(distance_m, calibration[0], calibration[1]) + beacon_offset_m[0] - range_m) / sigma_m;
 }
 
 // A range taken exactly at a pose's time.

@@ -10,6 +10,7 @@
 
 #include "initial_guess.hpp"
 #include "roam/estimation/multilateration.hpp"
+#include "roam/estimation/range_model.hpp"
 #include "spectral_seed.hpp"
 
 namespace roam {
@@ -373,7 +374,7 @@ void SpectralBatchSlam::alignRotationToOdometry(spectral_batch::State* state) {
 double SpectralBatchSlam::scanHeadingRateBias(const std::vector<Tie>& tied) const {
   // Robust range cost of dead reckoning with bias b, beacons surveyed (anchor = beacons) or
   // robustly multilaterated from that path; Cauchy at the loss's scale over the range sigma.
-  const double c = 2.385;
+  const double c = estimation::kCauchy95;
   auto score = [&](double bias_rad_s) {
     const std::vector<std::array<double, 3>> poses =
         spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
