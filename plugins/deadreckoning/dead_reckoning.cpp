@@ -2,7 +2,7 @@
 
 #include "roam/estimation/motion_model.hpp"
 
-namespace roam {
+namespace roam::deadreckoning {
 
 void DeadReckoning::setInitialPose(const Pose& start) {
   if (!path_.empty()) return;  // the start is fixed once integration has begun
@@ -41,4 +41,4 @@ bool DeadReckoning::trajectory(bool /*force*/, Path* path) {
   return true;
 }
 
-}  // namespace roam
+}  // namespace roam::deadreckoning

@@ -10,7 +10,7 @@
 
 #include "roam/estimator.hpp"
 
-namespace roam {
+namespace roam::deadreckoning {
 
 class DeadReckoning : public Estimator {
  public:
@@ -26,4 +26,4 @@ class DeadReckoning : public Estimator {
   Path path_;  // path_[0] is the start pose once known
 };
 
-}  // namespace roam
+}  // namespace roam::deadreckoning

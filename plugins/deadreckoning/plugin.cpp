@@ -6,7 +6,7 @@ namespace {
 
 std::unique_ptr<roam::Estimator> makeDeadReckoning(roam::Options& options) {
   options.parse();  // no keys of its own: max_speed_mps and max_range_m are the SDK's
-  return std::make_unique<roam::DeadReckoning>();
+  return std::make_unique<roam::deadreckoning::DeadReckoning>();
 }
 
 }  // namespace
