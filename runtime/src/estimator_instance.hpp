@@ -78,6 +78,11 @@ class EstimatorInstance {
     std::vector<double> values;
   };
   virtual Status status() = 0;
+
+  // Runs on the calling thread the job a worker has been handed but not yet started; true if it
+  // did (only instances on a worker have such jobs). The host uses it to take a share of the
+  // end-of-input solves instead of waiting for one worker to get through its queue.
+  virtual bool runQueuedHere() { return false; }
 };
 
 }  // namespace runtime

@@ -244,6 +244,11 @@ void Host::finish() {
     before_s.push_back(slot.instance->cpuTotalSeconds());
     if (!slot.instance->failed()) slot.instance->finish();
   }
+  // Workers take their queues from the front; this thread takes what no worker has started yet
+  // from the back (estimators are given to workers round robin, so one worker's queue may hold
+  // several batch solves while the other's is empty). Each job still runs exactly once and the
+  // outputs are published in order below, so the log is the same whoever ran what.
+  for (size_t i = estimators_.size(); i-- > 0;) estimators_[i].instance->runQueuedHere();
   for (size_t i = 0; i < estimators_.size(); ++i) {
     EstimatorSlot& slot = estimators_[i];
     publishOutputs(slot, false);

@@ -67,6 +67,7 @@ class ThreadedInstance : public EstimatorInstance {
   bool pollTrajectory(bool force, bool* available, std::vector<roam_pose>* poses) override;
 
   Status status() override;
+  bool runQueuedHere() override { return runIfQueued(); }
 
  private:
   // Queues `call` for the worker, then polls poses and map (and, at the end of input, the path).
