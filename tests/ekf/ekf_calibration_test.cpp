@@ -187,23 +187,7 @@ TEST(EkfCalibration, NlosThirtyPercentWithDriftingOdometryInitialisesFromThePose
   // with the consensus sightings every beacon enters: measured 1.27 / 0.94 m (seeds 202 / 331;
   // seed 332 still initialises none, see the README). Bound: 1.5 m, every beacon, b within 1e-3.
   for (const uint64_t seed : {202, 331}) {
-    sim::SimConfig world;
-    world.seed = seed;
-    world.num_steps = 3000;
-    world.dt_s = 0.2;
-    world.path = sim::PathKind::kLawnMower;
-    world.area_width_m = 40.0;
-    world.area_height_m = 30.0;
-    world.lane_spacing_m = 5.0;
-    world.num_beacons = 6;
-    world.schedule = sim::RangeSchedule::kRoundRobin;
-    world.range_rate_hz = 2.0;
-    world.range_sigma_m = 0.3;
-    world.odo_distance_sigma_rel = 0.02;
-    world.odo_heading_sigma_rad = 0.003;
-    world.outlier_fraction = 0.3;
-    world.outlier_min_m = 2.0;
-    world.outlier_max_m = 40.0;
+    sim::SimConfig world = sim::nlos30LawnMowerWorld(seed, 3000);
     world.odo_heading_bias_radps = 0.005;
     world.odo_distance_scale = 0.97;
     const sim::SimRun run = sim::simulate(world);

@@ -259,23 +259,7 @@ TEST(OnlineEmCalibration, CalibratedRerunFixesTheStartFrame) {
 
 // 30 % non-line-of-sight ranges, 2-40 m long (issue 15's heavy-outlier kind), lawn mower.
 TEST(OnlineEmOutliers, ThirtyPercentNlosRangesInBothAnchors) {
-  sim::SimConfig c;
-  c.seed = 12;
-  c.num_steps = 1500;
-  c.path = sim::PathKind::kLawnMower;
-  c.area_width_m = 40.0;
-  c.area_height_m = 30.0;
-  c.lane_spacing_m = 5.0;
-  c.num_beacons = 6;
-  c.schedule = sim::RangeSchedule::kRoundRobin;
-  c.range_rate_hz = 2.0;
-  c.range_sigma_m = 0.3;
-  c.odo_distance_sigma_rel = 0.02;
-  c.odo_heading_sigma_rad = 0.003;
-  c.outlier_fraction = 0.3;
-  c.outlier_min_m = 2.0;
-  c.outlier_max_m = 40.0;
-  const Dataset data = sim::simulate(c);
+  const Dataset data = sim::simulate(sim::nlos30LawnMowerWorld(12, 1500));
   for (const std::string anchor : {"beacons", "start_pose"}) {
     OnlineEmConfig config;
     setOptions(&config, addOnlineEmOptions, {{"anchor", anchor}});

@@ -159,20 +159,7 @@ TEST(SpectralOutliers, ThirtyPercentNlosWithinAMetreAcrossSeeds) {
   // anchor = start_pose (rank 4), seeds 202 / 212: 0.86 / 0.97 m (2.75 / 1.81 before).
   // Bounds: issue 15's targets (1.0 m beacons, 1.5 m start pose).
   for (const uint64_t seed : {202u, 212u, 222u, 232u}) {
-    sim::SimConfig c;
-    c.seed = seed;
-    c.num_steps = 3000;
-    c.path = sim::PathKind::kLawnMower;
-    c.num_beacons = 6;
-    c.schedule = sim::RangeSchedule::kRoundRobin;
-    c.range_rate_hz = 2.0;
-    c.range_sigma_m = 0.3;
-    c.odo_distance_sigma_rel = 0.02;
-    c.odo_heading_sigma_rad = 0.003;
-    c.outlier_fraction = 0.3;
-    c.outlier_min_m = 2.0;
-    c.outlier_max_m = 40.0;
-    const sim::SimRun run = sim::simulate(c);
+    const sim::SimRun run = sim::simulate(sim::nlos30LawnMowerWorld(seed, 3000));
     for (const bool start_pose : {false, true}) {
       if (start_pose && seed > 212u) continue;
       SpectralConfig config;

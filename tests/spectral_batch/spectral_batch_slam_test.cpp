@@ -270,18 +270,7 @@ TEST(SpectralBatchSlam, GyroDriftIsCalibrated) {
 
 TEST(SpectralBatchSlam, HeavyOutliersInBothAnchors) {
   // 30 % of the ranges non-line-of-sight, 2-40 m long.
-  sim::SimConfig sim_config;
-  sim_config.seed = 302;
-  sim_config.num_steps = 1500;
-  sim_config.num_beacons = 6;
-  sim_config.schedule = sim::RangeSchedule::kRoundRobin;
-  sim_config.range_sigma_m = 0.3;
-  sim_config.odo_distance_sigma_rel = 0.02;
-  sim_config.odo_heading_sigma_rad = 0.003;
-  sim_config.outlier_fraction = 0.3;
-  sim_config.outlier_min_m = 2.0;
-  sim_config.outlier_max_m = 40.0;
-  const Dataset data = sim::simulate(sim_config);
+  const Dataset data = sim::simulate(sim::nlos30LawnMowerWorld(302, 1500));
   for (const char* anchor : {"start_pose", "beacons"}) {
     SpectralBatchConfig config;
     config.init = SpectralBatchConfig::Init::kDeadReckoning;

@@ -148,6 +148,28 @@ SimConfig gyroDriftFigure8World(uint64_t seed, int num_steps) {
   return c;
 }
 
+SimConfig nlos30LawnMowerWorld(uint64_t seed, int num_steps) {
+  SimConfig c;
+  c.seed = seed;
+  c.num_steps = num_steps;
+  c.dt_s = 0.2;
+  c.speed_mps = 1.0;
+  c.path = PathKind::kLawnMower;
+  c.area_width_m = 40.0;
+  c.area_height_m = 30.0;
+  c.lane_spacing_m = 5.0;
+  c.num_beacons = 6;
+  c.schedule = RangeSchedule::kRoundRobin;
+  c.range_rate_hz = 2.0;
+  c.range_sigma_m = 0.3;
+  c.odo_distance_sigma_rel = 0.02;
+  c.odo_heading_sigma_rad = 0.003;
+  c.outlier_fraction = 0.3;
+  c.outlier_min_m = 2.0;
+  c.outlier_max_m = 40.0;
+  return c;
+}
+
 SimRun simulate(const SimConfig& c) {
   if (c.num_steps < 1) throw std::invalid_argument("num_steps must be >= 1");
   if (c.dt_s <= 0.0) throw std::invalid_argument("dt_s must be > 0");

@@ -98,5 +98,10 @@ SimConfig auvLikeWorld(uint64_t seed, int num_steps);
 // gyro bias.
 SimConfig gyroDriftFigure8World(uint64_t seed, int num_steps);
 
+// The heavy-NLOS world of logs/synthetic/nlos30-lawnmower (there seed 107, 3000 steps): a
+// 40 x 30 m lawn mower with 5 m lanes at 1 m/s in 0.2 s steps, 6 beacons at 2 Hz round robin,
+// 0.3 m range noise, 30 % of the ranges 2-40 m too long, 2 % odometry and 0.003 rad heading noise.
+SimConfig nlos30LawnMowerWorld(uint64_t seed, int num_steps);
+
 }  // namespace sim
 }  // namespace roam
