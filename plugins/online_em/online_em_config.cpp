@@ -29,6 +29,9 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
       .min(0.0, false);
   options.add("heading_rate_bias_prior_sigma_rad_s", &c->heading_rate_bias_prior_sigma_rad_s,
               "prior sigma of the heading-rate bias around 0").min(0.0, false);
+  options.add("heading_rate_bias_max_drift_rad", &c->heading_rate_bias_max_drift_rad,
+              "fix the heading-rate bias at 0 if its prior turns the heading more than this between position fixes (0: always estimate)")
+      .min(0.0);
   options.add("calibrated_rerun", &c->calibrated_rerun,
               "start_pose: re-run once from the start with the learned calibration");
   options.add("rerun_bias_sigma_fraction", &c->rerun_bias_sigma_fraction,

@@ -50,6 +50,7 @@ OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
                config_.motion_model == OnlineEmConfig::MotionModel::kOdometry;
   mixture_weight0_ = config_.mixture_weight0;
   inlier_sigma0_ = config_.mixture_sigma0;
+  if (config_.heading_rate_bias_max_drift_rad <= 0.0) bias_state_ = BiasState::kEstimated;
   setDiagnostic("num_particles", n);
 }
 
@@ -135,6 +136,7 @@ void OnlineEmSlam::addRange(const Range& range) {
     return;
   }
   if (recording_ && !replaying_) inputs_.push_back({false, Odometry{}, range});
+  checkBiasObservable(range.utime);
   if (config_.outlier_model == OnlineEmConfig::OutlierModel::kUniform && range.range_m > max_range_m_) {
     max_range_m_ = range.range_m;
     observation_.setOutlierSpan(max_range_m_);
@@ -490,6 +492,20 @@ void OnlineEmSlam::mixtureMStep() {
   setDiagnostic("mixture_inlier_sigma_scale", inlier_sigma0_);
 }
 
+void OnlineEmSlam::checkBiasObservable(int64_t range_utime) {
+  // Decided on the first kRateRanges ranges (the EKF's rule, heading_rate_bias_max_drift_rad).
+  constexpr int kRateRanges = 20;
+  if (bias_state_ != BiasState::kUndecided) return;
+  if (rate_ranges_ == 0) rate_first_utime_ = rate_last_utime_ = range_utime;
+  rate_first_utime_ = std::min(rate_first_utime_, range_utime);
+  rate_last_utime_ = std::max(rate_last_utime_, range_utime);
+  if (++rate_ranges_ < kRateRanges) return;
+  const double interval_s = 1e-6 * static_cast<double>(rate_last_utime_ - rate_first_utime_) / (kRateRanges - 1);
+  const double drift_rad = config_.heading_rate_bias_prior_sigma_rad_s * 3.0 * interval_s;
+  bias_state_ = drift_rad <= config_.heading_rate_bias_max_drift_rad ? BiasState::kEstimated : BiasState::kFixed;
+  setDiagnostic("heading_rate_bias_estimated", bias_state_ == BiasState::kEstimated ? 1.0 : 0.0);
+}
+
 void OnlineEmSlam::calibrationMStep() {
   if (!config_.calibrate_odometry || config_.motion_model != OnlineEmConfig::MotionModel::kOdometry || motion_steps_ == 0 || replaying_) return;
   const double n = static_cast<double>(motion_steps_);
@@ -500,6 +516,17 @@ void OnlineEmSlam::calibrationMStep() {
   h(1, 1) += pb;
   Eigen::Vector2d g = n * (calibration_statistics_.transpose() * weights_.matrix());
   g[0] += ps * 1.0;
+  if (bias_state_ != BiasState::kEstimated) {
+    // b held at 0: the distance scale alone.
+    const double s = h(0, 0) > 0.0 ? g[0] / h(0, 0) : kNaN;
+    if (!std::isfinite(s)) return;
+    calibration_.distance_scale = s;
+    calibration_.heading_rate_bias_rad_s = 0.0;
+    heading_rate_bias_sigma_rad_s_ = kNaN;
+    setDiagnostic("odometry_distance_scale", s);
+    setDiagnostic("heading_rate_bias_rad_s", 0.0);
+    return;
+  }
   const Eigen::LDLT<Eigen::Matrix2d> ldlt(h);
   if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return;
   const Eigen::Vector2d x = ldlt.solve(g);

@@ -192,6 +192,12 @@ class OnlineEmSlam : public Estimator {
   double heading_rate_bias_sigma_rad_s_ = kNaN;
   estimation::OdometryCalibration window_calibration_;  // the early window was dead-reckoned with it
   int64_t observing_steps_ = 0;
+  // Heading-rate bias observability (heading_rate_bias_max_drift_rad): the first ranges' times.
+  enum class BiasState { kUndecided, kEstimated, kFixed };
+  BiasState bias_state_ = BiasState::kUndecided;
+  int rate_ranges_ = 0;
+  int64_t rate_first_utime_ = 0, rate_last_utime_ = 0;
+  void checkBiasObservable(int64_t range_utime);
   // Mixture in theta: the outlier span, the current (w0, sigma0) and the running averages of
   // P(outlier), (1 - P(outlier)) e^2 / sr^2 and (1 - P(outlier)) over the ranges.
   double max_range_m_ = 0.0;
