@@ -58,6 +58,9 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
   options.add("estimate_mixture", &c->estimate_mixture, "outlier weight and inlier sigma in the M-step");
   options.add("estimate_inlier_sigma", &c->estimate_inlier_sigma, "inlier sigma in the M-step (with estimate_mixture)");
   options.add("mixture_prior_count", &c->mixture_prior_count, "pseudo-ranges of the mixture prior").min(0.0);
+  options.add("adapt_motion_noise", &c->adapt_motion_noise,
+              "scale the odometry translation noise so the particles explain the inlier ranges");
+  options.add("motion_noise_max_scale", &c->motion_noise_max_scale, "largest translation noise scale").min(1.0);
   options.add("step_c", &c->step_c, "step size gamma_n = c / n^alpha").min(0.0, false).max(1.0);
   options.add("step_alpha", &c->step_alpha, "step size exponent, in (0.5, 1]").min(0.5, false).max(1.0);
   options.add("mstep_every", &c->mstep_every, "M-step every k observing steps").min(1);

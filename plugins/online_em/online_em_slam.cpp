@@ -258,6 +258,7 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
       mean_inlier_ = (1.0 - gamma) * mean_inlier_ + gamma * (1.0 - outlier);
     }
   }
+  if (config_.adapt_motion_noise) adaptMotionNoise(observations);
   if (degenerate) setDiagnostic("degenerate_weight_steps", ++degenerate_weight_steps_);
   if (!observations.empty()) {
     const double ess = 1.0 / weights_.square().sum();
@@ -490,6 +491,49 @@ void OnlineEmSlam::mixtureMStep() {
   observation_.setInlierScale(inlier_sigma0_);
   setDiagnostic("mixture_outlier_weight", 1.0 - mixture_weight0_);
   setDiagnostic("mixture_inlier_sigma_scale", inlier_sigma0_);
+}
+
+void OnlineEmSlam::adaptMotionNoise(const std::vector<StepObservation>& observations) {
+  if (config_.motion_model != OnlineEmConfig::MotionModel::kOdometry || config_.indicators != OnlineEmConfig::Indicators::kMarginal) return;
+  const int n = config_.num_particles;
+  Eigen::ArrayXd predicted(n);
+  for (const StepObservation& obs : observations) {
+    if (obs.y.has_bearing) continue;
+    const Eigen::Vector4d phi_i = phi(obs.landmark);
+    double inlier = 0.0, mean_x = 0.0, mean_y = 0.0;
+    for (int k = 0; k < n; ++k) {
+      double x, y, th;
+      interpolate(k, obs.fraction, &x, &y, &th);
+      predicted[k] = phi_i[2] * std::hypot(phi_i[0] - x, phi_i[1] - y) + phi_i[3];
+      inlier += weights_[k] * (1.0 - obs.wide_probability[k]);
+      mean_x += x / n;
+      mean_y += y / n;
+    }
+    // The particles are equally weighted before this step's ranges (resampled every step).
+    const double mean_r = predicted.mean();
+    const double cloud_m2 = (predicted - mean_r).square().mean();
+    const double e = obs.y.range_m - mean_r;
+    const double sr = (obs.y.sigma_m > 0.0 ? obs.y.sigma_m : config_.range_sigma_m) * inlier_sigma0_;
+    const Landmark& landmark = landmarks_[obs.landmark];
+    Eigen::Vector2d u(phi_i[0] - mean_x, phi_i[1] - mean_y);
+    double map_m2 = 0.0;
+    if (u.norm() > 0.0 && landmark.covariance.allFinite()) {
+      u *= phi_i[2] / u.norm();
+      map_m2 = u.dot(landmark.covariance * u);
+    }
+    const double d = e;
+    ++noise_ranges_;
+    const double gamma = std::min(1.0, config_.step_c / std::pow(static_cast<double>(noise_ranges_), config_.step_alpha));
+    const double kappa2 = motion_noise_scale_ * motion_noise_scale_;
+    mean_excess_m2_ = (1.0 - gamma) * mean_excess_m2_ + gamma * inlier * (d * d - sr * sr - map_m2);
+    mean_cloud_m2_ = (1.0 - gamma) * mean_cloud_m2_ + gamma * inlier * cloud_m2 / kappa2;
+  }
+  if (!(mean_cloud_m2_ > 0.0)) return;
+  const double scale2 = std::clamp(mean_excess_m2_ / mean_cloud_m2_, 1.0, config_.motion_noise_max_scale * config_.motion_noise_max_scale);
+  if (!std::isfinite(scale2)) return;
+  motion_noise_scale_ = std::sqrt(scale2);
+  motion_.setTranslationNoiseScale(motion_noise_scale_);
+  setDiagnostic("motion_noise_scale", motion_noise_scale_);
 }
 
 void OnlineEmSlam::checkBiasObservable(int64_t range_utime) {

@@ -198,6 +198,12 @@ class OnlineEmSlam : public Estimator {
   int rate_ranges_ = 0;
   int64_t rate_first_utime_ = 0, rate_last_utime_ = 0;
   void checkBiasObservable(int64_t range_utime);
+  // Adaptive motion noise (adapt_motion_noise): running averages of pi (e^2 - sr^2 - v_map)
+  // and pi v / kappa^2 over the ranges, and the scale kappa.
+  void adaptMotionNoise(const std::vector<StepObservation>& observations);
+  double motion_noise_scale_ = 1.0;
+  double mean_excess_m2_ = 0.0, mean_cloud_m2_ = 0.0;
+  int64_t noise_ranges_ = 0;
   // Mixture in theta: the outlier span, the current (w0, sigma0) and the running averages of
   // P(outlier), (1 - P(outlier)) e^2 / sr^2 and (1 - P(outlier)) over the ranges.
   double max_range_m_ = 0.0;

@@ -26,7 +26,9 @@ void ParticleMotion::setControl(const Odometry& odometry, double dt_s,
     noise.heading_rad_per_sqrt_s = 0.0;
     noise.min_sigma_rad = config_.odo_heading_sigma_rad;
     noise.use_reported_covariance = config_.use_reported_covariance;
-    const Eigen::Matrix3d covariance = estimation::incrementCovariance(odometry, dt_s, noise);
+    Eigen::Matrix3d covariance = estimation::incrementCovariance(odometry, dt_s, noise);
+    const Eigen::Vector3d scale(translation_noise_scale_, translation_noise_scale_, 1.0);
+    covariance = scale.asDiagonal() * covariance * scale.asDiagonal();
     const Eigen::LLT<Eigen::Matrix3d> llt(covariance);
     if (llt.info() == Eigen::Success) {
       noise_factor_ = llt.matrixL();

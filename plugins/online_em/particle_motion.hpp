@@ -47,6 +47,9 @@ class ParticleMotion {
 
   // Sets the control of the step (odometry over dt_s seconds) and the odometry calibration.
   void setControl(const Odometry& odometry, double dt_s, const estimation::OdometryCalibration& calibration);
+  // Multiplies the translation (forward, lateral) standard deviations of the odometry model by
+  // `scale` from the next setControl on (the adaptive motion noise; 1 = as configured).
+  void setTranslationNoiseScale(double scale) { translation_noise_scale_ = scale; }
 
   // Draws the new pose of particle `to` from old particle `from` of `previous`.
   void sample(const ParticlePoses& previous, int from, ParticlePoses* next, int to,
@@ -75,6 +78,7 @@ class ParticleMotion {
   Eigen::Vector3d increment_ = Eigen::Vector3d::Zero();
   Eigen::Matrix3d noise_factor_ = Eigen::Matrix3d::Zero(), information_ = Eigen::Matrix3d::Identity();
   double steer_rad_ = 0.0, sigma_step_m_ = 0.0;  // bicycle: psi and sigma_v dt
+  double translation_noise_scale_ = 1.0;
 };
 
 }  // namespace online_em
