@@ -147,12 +147,12 @@ struct OnlineEmConfig {
   // capped at motion_noise_max_scale^2. kappa multiplies the forward and lateral standard
   // deviations (not the turn's: the heading noise is the gyro's, and scaling it random-walks
   // the heading of every particle; the EKF found the same). STATUS `motion_noise_scale`.
-  // motion_noise_max_scale 10: 2 % -> 20 %, DVL-less AUV dead reckoning. Off by default: it
-  // brings the AUV-like beacon anchor from 0.67 to 0.26 x dead reckoning (mean of 11 seeds;
-  // the one seed beyond 1.25 x, 2.0 -> 0.40) but takes goats16's beacon anchor from 7.76 to
-  // 11.76 m (1.54 x DR): there the inflated cloud follows ranges with per-beacon offsets of
-  // 1-2 m that the model does not carry (see README).
-  bool adapt_motion_noise = false;
+  // Only the excess beyond twice its standard error counts (a squared Gaussian innovation has
+  // standard deviation sqrt(2) x its variance; the running average spans 1 / sum(weights^2)
+  // ranges): without it a 10 % error in the learned range sigma, with a cloud 10x narrower
+  // than the range noise, reads as kappa ~ 3. motion_noise_max_scale 10: 2 % -> 20 % of the
+  // distance, DVL-less AUV dead reckoning. Figures: README.
+  bool adapt_motion_noise = true;
   double motion_noise_max_scale = 10.0;
 
   // Stochastic approximation: gamma_n = c / n^alpha per landmark, n = its own observation count.

@@ -527,9 +527,14 @@ void OnlineEmSlam::adaptMotionNoise(const std::vector<StepObservation>& observat
     const double kappa2 = motion_noise_scale_ * motion_noise_scale_;
     mean_excess_m2_ = (1.0 - gamma) * mean_excess_m2_ + gamma * inlier * (d * d - sr * sr - map_m2);
     mean_cloud_m2_ = (1.0 - gamma) * mean_cloud_m2_ + gamma * inlier * cloud_m2 / kappa2;
+    mean_predicted_m2_ = (1.0 - gamma) * mean_predicted_m2_ + gamma * inlier * (sr * sr + map_m2 + cloud_m2);
+    weight_square_sum_ = (1.0 - gamma) * (1.0 - gamma) * weight_square_sum_ + gamma * gamma;
   }
   if (!(mean_cloud_m2_ > 0.0)) return;
-  const double scale2 = std::clamp(mean_excess_m2_ / mean_cloud_m2_, 1.0, config_.motion_noise_max_scale * config_.motion_noise_max_scale);
+  // Only the excess beyond twice its standard error counts: a squared Gaussian innovation has
+  // standard deviation sqrt(2) x its variance, averaged over 1 / sum(weights^2) ranges.
+  const double excess_se_m2 = std::sqrt(2.0 * weight_square_sum_) * mean_predicted_m2_;
+  const double scale2 = std::clamp((mean_excess_m2_ - 2.0 * excess_se_m2) / mean_cloud_m2_, 1.0, config_.motion_noise_max_scale * config_.motion_noise_max_scale);
   if (!std::isfinite(scale2)) return;
   motion_noise_scale_ = std::sqrt(scale2);
   motion_.setTranslationNoiseScale(motion_noise_scale_);

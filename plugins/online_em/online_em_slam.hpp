@@ -202,7 +202,7 @@ class OnlineEmSlam : public Estimator {
   // and pi v / kappa^2 over the ranges, and the scale kappa.
   void adaptMotionNoise(const std::vector<StepObservation>& observations);
   double motion_noise_scale_ = 1.0;
-  double mean_excess_m2_ = 0.0, mean_cloud_m2_ = 0.0;
+  double mean_excess_m2_ = 0.0, mean_cloud_m2_ = 0.0, mean_predicted_m2_ = 0.0, weight_square_sum_ = 0.0;
   int64_t noise_ranges_ = 0;
   // Mixture in theta: the outlier span, the current (w0, sigma0) and the running averages of
   // P(outlier), (1 - P(outlier)) e^2 / sr^2 and (1 - P(outlier)) over the ranges.
