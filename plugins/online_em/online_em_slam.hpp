@@ -58,6 +58,16 @@
 // compares the window dead-reckoned with the re-run's calibration to the current one. Poses
 // already published stay published; the map, particles and path are the re-run's.
 //
+// Heading-rate bias observability (heading_rate_bias_max_drift_rad, the EKF's rule): b is
+// held at 0 until the 20th range, then estimated only if its prior would turn the heading by
+// at most that much over three mean range intervals; otherwise fixed at 0 (s alone in the
+// calibration M-step).
+//
+// Adaptive motion noise (adapt_motion_noise): the translation noise scale kappa (particle
+// proposal and transition density alike) from innovation covariance matching over the inlier
+// ranges (online_em_config.hpp): kappa^2 = (E[pi (e^2 - sr^2 - v_map)] - 2 SE) / E[pi v / kappa^2],
+// within [1, motion_noise_max_scale^2].
+//
 // Robust initialisation (multilateration.hpp): a consensus of range triples with an inlier gate
 // of 3 sr (at least 1 m).
 //
