@@ -27,6 +27,9 @@ constexpr double kMaxOdometryNoiseScale = 32.0;
 // average over the path), and never beyond 3 levels (the old fixed depth).
 constexpr double kScanHeadingTolerance_rad = 0.25;
 constexpr int kMaxScanLevels = 3;
+// Variance component estimation of the odometry noise: at most this many re-solves (the scales
+// settle in 2-4 on the runs here; each round is a warm-started solve).
+constexpr int kMaxNoiseRounds = 6;
 
 Pose toPose(int64_t utime, const std::array<double, 3>& pose) {
   Pose out;
@@ -355,7 +358,11 @@ void SpectralBatchSlam::alignRotationToOdometry(spectral_batch::State* state) {
     cross += px * dy - py * dx;
   }
   if (travelled_m < 0.5 * config_.gauge_align_m || std::hypot(dot, cross) <= 0.0) return;
-  const double angle_rad = std::atan2(cross, dot);
+  rotateAboutStart(state, std::atan2(cross, dot));
+}
+
+void SpectralBatchSlam::rotateAboutStart(spectral_batch::State* state, double angle_rad) {
+  std::vector<std::array<double, 3>>& poses = state->poses;
   const double c = std::cos(angle_rad), s = std::sin(angle_rad);
   const double ox = poses[0][0], oy = poses[0][1];
   auto rotate = [&](double* x, double* y) {
@@ -439,6 +446,56 @@ double SpectralBatchSlam::scanHeadingRateBias(const std::vector<Tie>& tied) cons
   return best;
 }
 
+void SpectralBatchSlam::refineOdometryNoise(Candidate* candidate) {
+  spectral_batch::Problem& problem = candidate->problem;
+  spectral_batch::State& state = candidate->state;
+  const bool pin = config_.gauge == SpectralBatchConfig::Gauge::kPinned && config_.anchor == SpectralBatchConfig::Anchor::kStartPose &&
+                   problem.fix_first_pose;
+  if (pin && !state.poses.empty()) {
+    // Rotation about pose 0 changes no residual (no beacon fixed): turn the solution so that
+    // pose 0 has the start heading, then hold it there.
+    rotateAboutStart(&state, wrapAngle(start_pose_[2] - state.poses[0][2]));
+    problem.fix_first_heading = true;
+  }
+  // Variance component estimation: E[squares_g] = redundancy_g when group g's sigmas are right,
+  // so each is scaled by sqrt(squares_g / redundancy_g) and the problem re-solved (warm) until the
+  // scales move by under 5 %. Starts from the candidate's own solve (evaluated, not re-solved).
+  problem.compute_redundancy = true;
+  spectral_batch::Summary summary = spectral_batch::solve(config_, problem, &state, true);
+  const double floor = config_.min_odometry_noise_scale;
+  for (int round = 0; round < kMaxNoiseRounds && summary.usable && summary.redundancy_ok; ++round) {
+    const double translation = problem.odometry_sigma_factor;
+    const double heading = translation * problem.odometry_heading_sigma_factor;
+    auto scaled = [&](double factor, double squares, double redundancy) {
+      if (!(redundancy > 1.0)) return factor;  // the group is not observed: keep it
+      return std::clamp(factor * std::sqrt(squares / redundancy), floor, kMaxOdometryNoiseScale);
+    };
+    const double new_translation =
+        scaled(translation, summary.odometry_translation_squares, summary.odometry_translation_redundancy);
+    const double new_heading = scaled(heading, summary.odometry_heading_squares, summary.odometry_heading_redundancy);
+    if (config_.verbose)
+      std::cerr << "spectral_batch: odometry noise round " << round << ": translation squares "
+                << summary.odometry_translation_squares << " / redundancy " << summary.odometry_translation_redundancy
+                << ", heading " << summary.odometry_heading_squares << " / " << summary.odometry_heading_redundancy
+                << " -> scales " << new_translation << ", " << new_heading << "\n";
+    if (std::abs(std::log(new_translation / translation)) < 0.05 && std::abs(std::log(new_heading / heading)) < 0.05 &&
+        round > 0)
+      break;
+    problem.odometry_sigma_factor = new_translation;
+    problem.odometry_heading_sigma_factor = new_heading / new_translation;
+    spectral_batch::State trial_state = state;
+    spectral_batch::Summary trial = spectral_batch::solve(config_, problem, &trial_state);
+    if (!trial.usable) break;
+    trial.iterations += summary.iterations;
+    state = std::move(trial_state);
+    summary = trial;
+  }
+  problem.compute_redundancy = false;
+  if (summary.usable) candidate->summary = summary;
+  setDiagnostic("odometry_translation_noise_scale", problem.odometry_sigma_factor);
+  setDiagnostic("odometry_heading_noise_scale", problem.odometry_sigma_factor * problem.odometry_heading_sigma_factor);
+}
+
 double SpectralBatchSlam::costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const {
   spectral_batch::Problem problem = candidate.problem;
   spectral_batch::State state = candidate.state;
@@ -511,8 +568,12 @@ void SpectralBatchSlam::solveNow(bool final) {
     best_cost_ = costWithNoise(best, factors);
     setDiagnostic("odometry_alone_cost", odometry_alone_cost_);
   }
-  if (final && config_.anchor == SpectralBatchConfig::Anchor::kStartPose && config_.gauge_align_m > 0.0 && best.summary.usable)
-    alignRotationToOdometry(&best.state);
+  const spectral_batch::Summary checked = best.summary;  // the trust checks below judge this solve
+  if (final && config_.estimate_odometry_noise && best.summary.usable) refineOdometryNoise(&best);
+  if (final && config_.anchor == SpectralBatchConfig::Anchor::kStartPose && best.summary.usable) {
+    if (config_.gauge == SpectralBatchConfig::Gauge::kWindow && config_.gauge_align_m > 0.0)
+      alignRotationToOdometry(&best.state);
+  }
   noise_factors_ = factors;
   setDiagnostic("odometry_noise_scale", factors[0]);
   setDiagnostic("range_noise_scale", factors[1]);
@@ -559,13 +620,13 @@ void SpectralBatchSlam::solveNow(bool final) {
   const bool any_beacon_fixed =
       std::find(problem.beacon_fixed.begin(), problem.beacon_fixed.end(), true) != problem.beacon_fixed.end();
   const double inlier_fraction =
-      problem.ranges.empty() ? 1.0 : static_cast<double>(summary_.range_inliers) / static_cast<double>(problem.ranges.size());
+      problem.ranges.empty() ? 1.0 : static_cast<double>(checked.range_inliers) / static_cast<double>(problem.ranges.size());
   setDiagnostic("ranges_inlier_fraction", inlier_fraction);
   if (final && !any_beacon_fixed && inlier_fraction < config_.min_inlier_fraction) {
     // Beacons fitted to the same ranges, most of which the solution calls outliers: below the
     // robust loss's breakdown point a wrong basin explaining another minority fits as well.
     std::ostringstream why;
-    why << "spectral_batch: the solve explains only " << summary_.range_inliers << " of "
+    why << "spectral_batch: the solve explains only " << checked.range_inliers << " of "
         << problem.ranges.size() << " ranges as inliers, under min_inlier_fraction "
         << config_.min_inlier_fraction
         << " with no surveyed beacon: no solution (survey the beacons with anchor = beacons, or check "
