@@ -133,7 +133,9 @@ struct SpectralBatchConfig {
   // (Foerstner 1979), between min_odometry_noise_scale and 32 times the configured noise. Unlike
   // the profile likelihood above (which a smoother can always lower by narrowing the odometry),
   // this may also narrow it: a log whose odometry is better than the configured wheel odometry
-  // holds its frame on the odometry. false: off.
+  // holds its frame on the odometry. Off by default: with the window gauge it moves Plaza 1's
+  // 50 m alignment (0.35 -> 0.50 m), and with gauge = pinned it loses on drpath, nlos30 and
+  // goats16 (README, "Round 4").
   bool estimate_odometry_noise = false;
   double min_odometry_noise_scale = 0.1;
 

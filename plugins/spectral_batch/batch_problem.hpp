@@ -7,6 +7,8 @@
 // stages see nearly quadratic costs (a poor start is not down-weighted into a stall) and the last
 // uses the configured scale c. Gauge: the first pose held constant, and/or the beacons marked
 // fixed held constant. The calibration (scale, offset) is held constant unless estimated.
+// Optionally (compute_redundancy) the odometry's redundancy numbers at the solution, for variance
+// component estimation of its noise (Summary).
 #pragma once
 
 #include <Eigen/Core>
