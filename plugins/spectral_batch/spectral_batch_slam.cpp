@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <ctime>
 
 #include "initial_guess.hpp"
 #include "roam/estimation/multilateration.hpp"
@@ -27,6 +28,16 @@ constexpr double kMaxOdometryNoiseScale = 32.0;
 // average over the path), and never beyond 3 levels (the old fixed depth).
 constexpr double kScanHeadingTolerance_rad = 0.25;
 constexpr int kMaxScanLevels = 3;
+// Variance component estimation of the odometry noise: at most this many re-solves (the scales
+// settle in 2-4 on the runs here; each round is a warm-started solve).
+constexpr int kMaxNoiseRounds = 6;
+
+// Thread CPU seconds (verbose: where a final solve's time goes).
+double threadCpu_s() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 Pose toPose(int64_t utime, const std::array<double, 3>& pose) {
   Pose out;
@@ -355,7 +366,11 @@ void SpectralBatchSlam::alignRotationToOdometry(spectral_batch::State* state) {
     cross += px * dy - py * dx;
   }
   if (travelled_m < 0.5 * config_.gauge_align_m || std::hypot(dot, cross) <= 0.0) return;
-  const double angle_rad = std::atan2(cross, dot);
+  rotateAboutStart(state, std::atan2(cross, dot));
+}
+
+void SpectralBatchSlam::rotateAboutStart(spectral_batch::State* state, double angle_rad) {
+  std::vector<std::array<double, 3>>& poses = state->poses;
   const double c = std::cos(angle_rad), s = std::sin(angle_rad);
   const double ox = poses[0][0], oy = poses[0][1];
   auto rotate = [&](double* x, double* y) {
@@ -412,31 +427,100 @@ double SpectralBatchSlam::scanHeadingRateBias(const std::vector<Tie>& tied) cons
     }
     return cost;
   };
-  // Coarse to fine over +-3 prior sigmas: 31 points, then refinements of 21 points at a tenth of
-  // the step, until half a step leaves at most kScanHeadingTolerance_rad of heading error at the
-  // end of the run. The batch solve estimates the bias itself; the scan only has to start it in
-  // its basin.
+  // Coarse to fine over +-3 prior sigmas: 31 points, then refinements at a tenth of the step
+  // within +-10 fine steps of the best, until half a step leaves at most kScanHeadingTolerance_rad
+  // of heading error at the end of the run. The batch solve estimates the bias itself; the scan
+  // only has to start it in its basin. A refinement walks downhill from the best point (to the
+  // neighbour that lowers the cost, then on while it keeps lowering it): the grid's minimum where
+  // the cost is unimodal over the +-10 fine steps, in ~3-6 scores instead of 20 (each score is a
+  // dead reckoning and a robust multilateration of every beacon: most of the scan's time).
   const double duration_s = 1e-6 * static_cast<double>(pose_utime_.back() - pose_utime_.front());
   const double span = 3.0 * config_.heading_rate_bias_sigma_rad_s;
   double best = 0.0, best_cost = score(0.0);
   double step = span / 15.0;
-  double centre = 0.0;
-  for (int level = 0; level < kMaxScanLevels; ++level) {
-    const int half = level == 0 ? 15 : 10;
-    for (int i = -half; i <= half; ++i) {
-      const double b = centre + step * i;
-      if (b == 0.0) continue;
-      const double cost = score(b);
-      if (cost < best_cost) {
-        best_cost = cost;
-        best = b;
-      }
+  for (int i = -15; i <= 15; ++i) {
+    const double b = step * i;
+    if (b == 0.0) continue;
+    const double cost = score(b);
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = b;
     }
+  }
+  for (int level = 1; level < kMaxScanLevels; ++level) {
     if (0.5 * step * duration_s <= kScanHeadingTolerance_rad) break;
-    centre = best;
     step /= 10.0;
+    const double centre = best;
+    const double cost_up = score(centre + step), cost_down = score(centre - step);
+    int direction = 0;
+    if (cost_up < best_cost && cost_up <= cost_down) {
+      direction = 1;
+      best_cost = cost_up;
+      best = centre + step;
+    } else if (cost_down < best_cost) {
+      direction = -1;
+      best_cost = cost_down;
+      best = centre - step;
+    }
+    for (int i = 2; direction != 0 && i <= 10; ++i) {
+      const double b = centre + step * direction * i;
+      const double cost = score(b);
+      if (!(cost < best_cost)) break;
+      best_cost = cost;
+      best = b;
+    }
   }
   return best;
+}
+
+void SpectralBatchSlam::refineOdometryNoise(Candidate* candidate) {
+  spectral_batch::Problem& problem = candidate->problem;
+  spectral_batch::State& state = candidate->state;
+  const bool pin = config_.gauge == SpectralBatchConfig::Gauge::kPinned && config_.anchor == SpectralBatchConfig::Anchor::kStartPose &&
+                   problem.fix_first_pose;
+  if (pin && !state.poses.empty()) {
+    // Rotation about pose 0 changes no residual (no beacon fixed): turn the solution so that
+    // pose 0 has the start heading, then hold it there.
+    rotateAboutStart(&state, wrapAngle(start_pose_[2] - state.poses[0][2]));
+    problem.fix_first_heading = true;
+  }
+  // Variance component estimation: E[squares_g] = redundancy_g when group g's sigmas are right,
+  // so each is scaled by sqrt(squares_g / redundancy_g) and the problem re-solved (warm) until the
+  // scales move by under 5 %. Starts from the candidate's own solve (evaluated, not re-solved).
+  problem.compute_redundancy = true;
+  spectral_batch::Summary summary = spectral_batch::solve(config_, problem, &state, true);
+  const double floor = config_.min_odometry_noise_scale;
+  for (int round = 0; round < kMaxNoiseRounds && summary.usable && summary.redundancy_ok; ++round) {
+    const double translation = problem.odometry_sigma_factor;
+    const double heading = translation * problem.odometry_heading_sigma_factor;
+    auto scaled = [&](double factor, double squares, double redundancy) {
+      if (!(redundancy > 1.0)) return factor;  // the group is not observed: keep it
+      return std::clamp(factor * std::sqrt(squares / redundancy), floor, kMaxOdometryNoiseScale);
+    };
+    const double new_translation =
+        scaled(translation, summary.odometry_translation_squares, summary.odometry_translation_redundancy);
+    const double new_heading = scaled(heading, summary.odometry_heading_squares, summary.odometry_heading_redundancy);
+    if (config_.verbose)
+      std::cerr << "spectral_batch: odometry noise round " << round << ": translation squares "
+                << summary.odometry_translation_squares << " / redundancy " << summary.odometry_translation_redundancy
+                << ", heading " << summary.odometry_heading_squares << " / " << summary.odometry_heading_redundancy
+                << " -> scales " << new_translation << ", " << new_heading << "\n";
+    if (std::abs(std::log(new_translation / translation)) < 0.05 && std::abs(std::log(new_heading / heading)) < 0.05 &&
+        round > 0)
+      break;
+    problem.odometry_sigma_factor = new_translation;
+    problem.odometry_heading_sigma_factor = new_heading / new_translation;
+    spectral_batch::State trial_state = state;
+    spectral_batch::Summary trial = spectral_batch::solve(config_, problem, &trial_state);
+    if (!trial.usable) break;
+    trial.iterations += summary.iterations;
+    state = std::move(trial_state);
+    summary = trial;
+  }
+  problem.compute_redundancy = false;
+  if (summary.usable) candidate->summary = summary;
+  setDiagnostic("odometry_translation_noise_scale", problem.odometry_sigma_factor);
+  setDiagnostic("odometry_heading_noise_scale", problem.odometry_sigma_factor * problem.odometry_heading_sigma_factor);
 }
 
 double SpectralBatchSlam::costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const {
@@ -468,8 +552,16 @@ void SpectralBatchSlam::solveNow(bool final) {
   // with one, both are solved and the lower robust cost, under the same (wider) noise scales,
   // is kept (a seed dragged by outliers loses).
   double bias_rad_s = 0.0;
+  std::ostringstream times;  // verbose: thread CPU per part of the solve
+  double mark_s = threadCpu_s();
+  auto lap = [&](const char* what) {
+    const double now_s = threadCpu_s();
+    times << " " << what << " " << now_s - mark_s << " s";
+    mark_s = now_s;
+  };
   if (final) {
     bias_rad_s = config_.estimate_odometry_calibration ? scanHeadingRateBias(tied) : 0.0;
+    lap("scan");
     setDiagnostic("heading_rate_bias_scan_rad_s", bias_rad_s);
   }
   const std::array<double, 2> scanned_calibration{1.0, bias_rad_s};
@@ -479,6 +571,7 @@ void SpectralBatchSlam::solveNow(bool final) {
   Candidate best = solveFrom(std::move(poses), seeded_by_spectral ? &spectral_map : nullptr,
                              !seeded_by_spectral, !seeded_by_spectral_, tied, false, noise_factors_,
                              dead_reckoning_only ? scanned_calibration : odometry_calibration_);
+  lap("first solve");
   bool from_spectral = seeded_by_spectral_;
   std::array<double, 2> factors{best.problem.odometry_sigma_factor, best.problem.range_sigma_factor};
   Candidate alone;  // final: dead reckoning with its multilaterated beacons, evaluated
@@ -489,6 +582,7 @@ void SpectralBatchSlam::solveNow(bool final) {
       const std::vector<std::array<double, 3>> dr_biased =
           spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
       Candidate from_dr = solveFrom(dr_biased, nullptr, false, true, tied, false, noise_factors_, scanned_calibration);
+      lap("dead-reckoning solve");
       if (from_dr.summary.usable) {
         const std::array<double, 2> common{
             std::max(factors[0], from_dr.problem.odometry_sigma_factor),
@@ -506,13 +600,21 @@ void SpectralBatchSlam::solveNow(bool final) {
       }
       factors = {best.problem.odometry_sigma_factor, best.problem.range_sigma_factor};
     }
+    lap("comparison");
     alone = solveFrom(dr, nullptr, false, true, tied, true, factors, {1.0, 0.0});
     odometry_alone_cost_ = alone.summary.final_cost;
     best_cost_ = costWithNoise(best, factors);
+    lap("odometry alone");
     setDiagnostic("odometry_alone_cost", odometry_alone_cost_);
   }
-  if (final && config_.anchor == SpectralBatchConfig::Anchor::kStartPose && config_.gauge_align_m > 0.0 && best.summary.usable)
-    alignRotationToOdometry(&best.state);
+  const spectral_batch::Summary checked = best.summary;  // the trust checks below judge this solve
+  if (final && config_.estimate_odometry_noise && best.summary.usable) refineOdometryNoise(&best);
+  if (final && config_.anchor == SpectralBatchConfig::Anchor::kStartPose && best.summary.usable) {
+    if (config_.gauge == SpectralBatchConfig::Gauge::kWindow && config_.gauge_align_m > 0.0)
+      alignRotationToOdometry(&best.state);
+  }
+  lap("noise and gauge");
+  if (config_.verbose) std::cerr << "spectral_batch: thread CPU:" << times.str() << "\n";
   noise_factors_ = factors;
   setDiagnostic("odometry_noise_scale", factors[0]);
   setDiagnostic("range_noise_scale", factors[1]);
@@ -559,13 +661,13 @@ void SpectralBatchSlam::solveNow(bool final) {
   const bool any_beacon_fixed =
       std::find(problem.beacon_fixed.begin(), problem.beacon_fixed.end(), true) != problem.beacon_fixed.end();
   const double inlier_fraction =
-      problem.ranges.empty() ? 1.0 : static_cast<double>(summary_.range_inliers) / static_cast<double>(problem.ranges.size());
+      problem.ranges.empty() ? 1.0 : static_cast<double>(checked.range_inliers) / static_cast<double>(problem.ranges.size());
   setDiagnostic("ranges_inlier_fraction", inlier_fraction);
   if (final && !any_beacon_fixed && inlier_fraction < config_.min_inlier_fraction) {
     // Beacons fitted to the same ranges, most of which the solution calls outliers: below the
     // robust loss's breakdown point a wrong basin explaining another minority fits as well.
     std::ostringstream why;
-    why << "spectral_batch: the solve explains only " << summary_.range_inliers << " of "
+    why << "spectral_batch: the solve explains only " << checked.range_inliers << " of "
         << problem.ranges.size() << " ranges as inliers, under min_inlier_fraction "
         << config_.min_inlier_fraction
         << " with no surveyed beacon: no solution (survey the beacons with anchor = beacons, or check "

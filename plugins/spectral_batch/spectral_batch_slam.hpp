@@ -97,8 +97,15 @@ class SpectralBatchSlam : public Estimator {
   // anchor = start_pose: rotates the solution about pose 0 onto the calibrated odometry of the
   // first gauge_align_m of travel (the rotation gauge).
   void alignRotationToOdometry(spectral_batch::State* state);
+  // Rotates poses and beacons about pose 0 by angle_rad (a gauge move: no residual changes).
+  void rotateAboutStart(spectral_batch::State* state, double angle_rad);
   // The candidate's cost (final loss) with these odometry and range noise scales.
   double costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const;
+  // Final solve: the odometry noise of the candidate (translation and heading scales) by variance
+  // component estimation, re-solving warm from its state until the scales settle; with
+  // pin_start_heading (anchor = start_pose) pose 0 is first turned onto the start heading (a
+  // gauge move) and held there.
+  void refineOdometryNoise(Candidate* candidate);
   void solveNow(bool final);
   // The final solve is not trusted (why): fail (fallback_deadreckoning = false), or publish dead
   // reckoning (alone: its poses and multilaterated beacons) with the reason in STATUS.

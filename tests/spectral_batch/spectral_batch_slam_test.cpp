@@ -268,6 +268,52 @@ TEST(SpectralBatchSlam, GyroDriftIsCalibrated) {
   EXPECT_GT(plain_error_m, error_m);
 }
 
+TEST(SpectralBatchSlam, GyroDriftFigure8FromTheStartPose) {
+  // The held-out kind (issue 15): the brief's drifting-gyro figure-8 (20 min, 0.01 rad/s of gyro
+  // bias), anchor = start_pose, default keys. Measured on seeds 201-203 of roam-sim's command:
+  // 0.261 / 0.107 / 0.121 m (201-206 in the README: 0.10-0.27, mean 0.185). What is left is the
+  // frame about the start (rotation and offset set by the first tens of metres), not the shape: a
+  // similarity fit leaves ~0.08 m. Bounds: every seed within 0.3 m, the mean within 0.2 m.
+  double sum_m = 0.0;
+  for (const uint64_t seed : {201u, 202u, 203u}) {
+    const Dataset data = sim::simulate(sim::gyroDriftFigure8World(seed, 6000));
+    SpectralBatchConfig config;
+    config.init = SpectralBatchConfig::Init::kDeadReckoning;
+    SpectralBatchSlam slam(config);
+    test::feed(data, slam);
+    Path path;
+    ASSERT_TRUE(slam.trajectory(true, &path));
+    const double error_m = test::meanError_m(path, data.ground_truth);
+    std::printf("figure-8 seed %u: %.3f m, bias %.5f rad/s\n", static_cast<unsigned>(seed), error_m,
+                slam.odometryCalibration().heading_rate_bias_rad_s);
+    EXPECT_LT(error_m, 0.3);
+    sum_m += error_m;
+  }
+  EXPECT_LT(sum_m / 3.0, 0.2);
+}
+
+TEST(SpectralBatchSlam, OdometryNoiseFromTheData) {
+  // estimate_odometry_noise on the figure-8: the simulated heading noise is 0.003 rad per 0.2 m
+  // step; the configured model gives sqrt(0.01^2 * 0.2 + 0.001^2 + (0.02 * 0.0167)^2) = 0.00459 rad
+  // per step, so the heading scale should come out near 0.003 / 0.00459 = 0.65 (measured 0.64 on
+  // seed 204 of the brief's command). With gauge = pinned, seed 204 goes from 0.271 to 0.176 m.
+  const Dataset data = sim::simulate(sim::gyroDriftFigure8World(204, 6000));
+  SpectralBatchConfig config;
+  config.init = SpectralBatchConfig::Init::kDeadReckoning;
+  config.estimate_odometry_noise = true;
+  config.gauge = SpectralBatchConfig::Gauge::kPinned;
+  SpectralBatchSlam slam(config);
+  test::feed(data, slam);
+  Path path;
+  ASSERT_TRUE(slam.trajectory(true, &path));
+  const double error_m = test::meanError_m(path, data.ground_truth);
+  const double heading_scale = slam.diagnostics().at("odometry_heading_noise_scale");
+  std::printf("figure-8 seed 204, noise estimated: %.3f m, heading scale %.3f, translation %.3f\n", error_m,
+              heading_scale, slam.diagnostics().at("odometry_translation_noise_scale"));
+  EXPECT_NEAR(heading_scale, 0.65, 0.08);
+  EXPECT_LT(error_m, 0.22);
+}
+
 TEST(SpectralBatchSlam, HeavyOutliersInBothAnchors) {
   // 30 % of the ranges non-line-of-sight, 2-40 m long.
   const Dataset data = sim::simulate(sim::nlos30LawnMowerWorld(302, 1500));
