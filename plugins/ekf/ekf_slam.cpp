@@ -374,6 +374,7 @@ void EkfSlam::initialiseReadyBeacons() {
         bias.offset_sigma_m = std::sqrt(filter_.covariance()(EkfFilter::kOffset, EkfFilter::kOffset));
       }
       const MultilaterationResult solve = estimation::multilaterate(consensusSightings(it->second, bias), bias, init_config_);
+      init_status_[id] = solve.status;
       if (solve.status == MultilaterationResult::Status::kReady) {
         rollbackAndInsert(id, solve);
         inserted = true;
@@ -537,6 +538,25 @@ void EkfSlam::publishDiagnostics() {
   setDiagnostic("range_offset_m", filter_.offset());
   setDiagnostic("beacons_initialised", static_cast<double>(filter_.beacons().size()));
   setDiagnostic("beacons_pending", static_cast<double>(pending_.size()));
+  // Why the pending beacons are still pending: each counted under the check its last batch
+  // solve failed (a start_pose run that initialises none is dead reckoning, and says why here).
+  static const std::array<std::pair<MultilaterationResult::Status, const char*>, 6> kReasons = {{
+      {MultilaterationResult::Status::kTooFew, "beacons_pending_too_few_ranges"},
+      {MultilaterationResult::Status::kShortBaseline, "beacons_pending_short_baseline"},
+      {MultilaterationResult::Status::kNoSolution, "beacons_pending_no_solution"},
+      {MultilaterationResult::Status::kAmbiguous, "beacons_pending_ambiguous"},
+      {MultilaterationResult::Status::kNarrowAngle, "beacons_pending_narrow_angle"},
+      {MultilaterationResult::Status::kPoorlyConstrained, "beacons_pending_poorly_constrained"},
+  }};
+  for (const auto& [status, key] : kReasons) {
+    int count = 0;
+    for (const auto& entry : pending_) {
+      auto found = init_status_.find(entry.first);
+      const auto last = found == init_status_.end() ? MultilaterationResult::Status::kTooFew : found->second;
+      count += last == status ? 1 : 0;
+    }
+    setDiagnostic(key, static_cast<double>(count));
+  }
   setDiagnostic("replays", static_cast<double>(replays_));
   setDiagnostic("stationary_bias_updates", static_cast<double>(stationary_updates_));
   setDiagnostic("calibration_reruns", static_cast<double>(calibration_reruns_));

@@ -135,6 +135,8 @@ class EkfSlam : public Estimator {
   Path path_;
   bool map_dirty_ = false;
   std::vector<Initialisation> initialisations_;
+  // Each pending beacon's last batch-solve status (STATUS: why it is not initialised).
+  std::map<int, MultilaterationResult::Status> init_status_;
   int64_t replays_ = 0;
   int64_t gated_ = 0;
   int gated_in_row_ = 0;              // ranges to known beacons gated since the last applied one
