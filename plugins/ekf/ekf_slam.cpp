@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string>
 
 #include "roam/estimation/motion_model.hpp"
 #include "roam/estimation/multilateration.hpp"
@@ -74,8 +75,11 @@ void EkfSlam::insertSurveyed() {
   for (const Beacon& beacon : surveyed_) {
     if (filter_.hasBeacon(beacon.id)) continue;
     pending_.erase(beacon.id);
-    filter_.addBeacon(beacon.id, Eigen::Vector2d(beacon.x_m, beacon.y_m),
-                      var_m2 * Eigen::Matrix2d::Identity());
+    // A surveyed beacon carries its own range offset state: with its position known, the
+    // offset is what its ranges disagree with the survey by. (Beacons initialised from ranges
+    // carry none: their own ranges cannot tell a beacon's offset from its distance.)
+    filter_.addBeacon(beacon.id, Eigen::Vector2d(beacon.x_m, beacon.y_m), var_m2 * Eigen::Matrix2d::Identity(),
+                      config_.beacon_range_offset_sigma_m);
     map_dirty_ = true;
   }
 }
@@ -536,6 +540,8 @@ std::map<int, int> EkfSlam::pendingBeacons() const {
 void EkfSlam::publishDiagnostics() {
   setDiagnostic("range_scale", filter_.scale());
   setDiagnostic("range_offset_m", filter_.offset());
+  for (const auto& [id, index] : filter_.beacons())
+    if (filter_.beaconOffsetIndex(id) >= 0) setDiagnostic("range_offset_beacon_" + std::to_string(id) + "_m", filter_.beaconOffset(id));
   setDiagnostic("beacons_initialised", static_cast<double>(filter_.beacons().size()));
   setDiagnostic("beacons_pending", static_cast<double>(pending_.size()));
   // Why the pending beacons are still pending: each counted under the check its last batch
