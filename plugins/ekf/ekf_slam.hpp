@@ -1,6 +1,6 @@
 // Cartesian range-only EKF SLAM: roam's "ekf" estimator.
 //
-// Model: the state is [x, y, theta, (scale, offset), m1x, m1y, ...] (EkfFilter); each odometry
+// Model: the state is [x, y, theta, (scale, offset), (s, b), m1x, m1y, (o1), ...] (EkfFilter); each odometry
 // step predicts the pose with noise
 //   var_d      = (odo_distance_sigma_rel d)^2 + odo_distance_sigma_m^2,
 //   var_dtheta = (odo_heading_sigma_rel |dtheta|)^2 + odo_heading_sigma_per_sqrt_m^2 d
