@@ -34,6 +34,7 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("range_bias", &c->range_bias, {{"none", EkfConfig::RangeBias::kNone}, {"shared", EkfConfig::RangeBias::kShared}}, "none | shared (estimated range scale and offset)");
   o.add("range_scale_sigma", &c->range_scale_sigma, "prior sigma of the range scale (mean 1)").min(0.0, false);
   o.add("range_offset_sigma_m", &c->range_offset_sigma_m, "prior sigma of the range offset (mean 0)").min(0.0, false);
+  o.add("beacon_range_offset_sigma_m", &c->beacon_range_offset_sigma_m, "prior sigma of each beacon's own range offset state (mean 0; 0: no per-beacon offsets)").min(0.0);
   o.add("range_huber_k", &c->range_huber_k, "Huber threshold of the range update in innovation sigmas (0: off)").min(0.0);
   o.add("gate_probability", &c->gate_probability, "Mahalanobis gate probability (1: no gate)").min(0.0, false).max(1.0);
   o.add("init_min_ranges", &c->init_min_ranges, "ranges buffered before a beacon may be initialised").min(3);

@@ -52,6 +52,10 @@ struct EkfConfig {
   RangeBias range_bias = RangeBias::kShared;
   double range_scale_sigma = 0.1;          // prior on the scale (mean 1)
   double range_offset_sigma_m = 0.5;       // prior on the offset (mean 0)
+  // Per-beacon range offsets: each surveyed beacon's ranges carry its own offset o_b (an acoustic
+  // transponder's turn-around delay, a UWB anchor's antenna delay), a state with prior
+  // 0 +- beacon_range_offset_sigma_m, on top of the shared offset (0: none). anchor = beacons only.
+  double beacon_range_offset_sigma_m = 1.5;
 
   // Huber threshold (innovation sigmas) of the range update: beyond it a range is down-weighted
   // by k / |z|; 1.345 is 95 % efficient on Gaussian noise (0: plain EKF update).

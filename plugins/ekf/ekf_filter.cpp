@@ -37,6 +37,7 @@ void EkfFilter::reset(const Eigen::Vector3d& world_T_robot, const Eigen::Matrix3
     P_(calib_index_ + 1, calib_index_ + 1) = std::pow(calibration.heading_rate_bias_sigma_rad_s, 2);
   }
   index_.clear();
+  offset_index_.clear();
 }
 
 void EkfFilter::predict(const Odometry& odometry, double dt_s, const Eigen::Matrix3d& Q,
@@ -80,8 +81,18 @@ void EkfFilter::inflatePose(double var_m2, double var_rad2) {
   P_(kHeading, kHeading) += var_rad2;
 }
 
-void EkfFilter::addBeacon(int id, const Eigen::Vector2d& world_m, const Eigen::Matrix2d& cov_m2) {
+void EkfFilter::addBeacon(int id, const Eigen::Vector2d& world_m, const Eigen::Matrix2d& cov_m2,
+                          double offset_sigma_m) {
   addBeacon(id, world_m, cov_m2, Eigen::MatrixXd::Zero(2, size()));
+  if (!(offset_sigma_m > 0.0)) return;
+  const int n = size();
+  x_.conservativeResize(n + 1);
+  x_(n) = 0.0;
+  P_.conservativeResize(n + 1, n + 1);
+  P_.row(n).setZero();
+  P_.col(n).setZero();
+  P_(n, n) = offset_sigma_m * offset_sigma_m;
+  offset_index_[id] = n;
 }
 
 void EkfFilter::addBeacon(int id, const Eigen::Vector2d& world_m, const Eigen::Matrix2d& cov_m2,
@@ -113,8 +124,10 @@ double EkfFilter::predictRange(int beacon_id, Eigen::RowVectorXd* jacobian) cons
       (*jacobian)(kScale) = distance_m;
       (*jacobian)(kOffset) = 1.0;
     }
+    const int o = beaconOffsetIndex(beacon_id);
+    if (o >= 0) (*jacobian)(o) = 1.0;
   }
-  return estimation::predictedRange_m(distance_m, scale, offset());
+  return estimation::predictedRange_m(distance_m, scale, offset() + beaconOffset(beacon_id));
 }
 
 double EkfFilter::predictBearing(int beacon_id, Eigen::RowVectorXd* jacobian) const {
@@ -160,6 +173,8 @@ EkfFilter::Update EkfFilter::updateRange(int beacon_id, double range_m, double s
     if (!(z2 <= gate_chi2)) return Update::kGated;
     Eigen::RowVectorXd H0 = H;
     if (with_bias_) H0(kScale) = H0(kOffset) = 0.0;
+    const int o = beaconOffsetIndex(beacon_id);
+    if (o >= 0) H0(o) = 0.0;
     const double S0 = H0.dot(P_ * H0.transpose()) + R(0, 0);
     const double z = std::abs(innovation(0)) / std::sqrt(S0);
     if (z > huber_k) R(0, 0) += (z / huber_k - 1.0) * S;

@@ -1,6 +1,7 @@
 // The EKF proper: a Gaussian over
 //   [x, y, theta, (range scale, range offset), (odometry distance scale s, heading-rate bias b),
-//    m1x, m1y, m2x, m2y, ...].
+//    m1x, m1y, (o1), m2x, m2y, (o2), ...]
+// (o_i: beacon i's own range offset, where added with one).
 //
 // Model (world frame, metres, radians CCW):
 //   motion: roam::estimation's SE(2) step (motion_model.hpp): the increment (u, v, w) reported
@@ -9,8 +10,10 @@
 //     Linearised with the shared Jacobians: pose rows x' = f(pose, s, b), so with A the 3 x n
 //     Jacobian of f over the whole state (pose and calibration columns), P_p* <- A P and
 //     P_pp <- A P A' + G Q_c G' (O(n) per step); b also walks: var_b += walk^2 dt.
-//   range to beacon m: range_m = scale * |m - p| + offset + noise(sigma_m)
-//     (scale = 1, offset = 0 when the bias states are off);
+//   range to beacon m: range_m = scale * |m - p| + offset + o_m + noise(sigma_m)
+//     (scale = 1, offset = 0 when the bias states are off; o_m = 0 without per-beacon offsets:
+//     an acoustic transponder's turn-around delay or a UWB anchor's antenna delay, its own per
+//     beacon; prior 0 +- the sigma it is added with, uncorrelated with the rest);
 //   bearing (robot-relative): bearing_rad = atan2(my - y, mx - x) - theta + noise.
 // Updates use the Joseph form P <- (I - K H) P (I - K H)' + K R K', then symmetrise, so P stays
 // symmetric positive (semi)definite; headings and bearing innovations are wrapped to (-pi, pi].
@@ -53,8 +56,21 @@ class EkfFilter {
   void predict(double distance_m, double dheading_rad, double var_distance_m2,
                double var_dheading_rad2);
 
-  // Appends a beacon, uncorrelated with the rest, with the given mean and covariance.
-  void addBeacon(int id, const Eigen::Vector2d& world_m, const Eigen::Matrix2d& cov_m2);
+  // A beacon's own range offset (0 without one) and the index of its state (-1 without).
+  double beaconOffset(int id) const {
+    const int o = beaconOffsetIndex(id);
+    return o >= 0 ? x_(o) : 0.0;
+  }
+  int beaconOffsetIndex(int id) const {
+    auto it = offset_index_.find(id);
+    return it == offset_index_.end() ? -1 : it->second;
+  }
+
+  // Appends a beacon, uncorrelated with the rest, with the given mean and covariance;
+  // offset_sigma_m > 0: with its own range offset state o (prior 0 +- offset_sigma_m,
+  // uncorrelated with the rest; 0: none, o = 0 exactly).
+  void addBeacon(int id, const Eigen::Vector2d& world_m, const Eigen::Matrix2d& cov_m2,
+                 double offset_sigma_m = 0.0);
   // Appends a beacon correlated with the rest: cross = cov(beacon, existing state) (2 x n).
   void addBeacon(int id, const Eigen::Vector2d& world_m, const Eigen::Matrix2d& cov_m2,
                  const Eigen::MatrixXd& cross);
@@ -74,7 +90,7 @@ class EkfFilter {
   // Zero-rate update: a stationary robot's reported turn is the bias, turn_rad = b dt + noise.
   Update updateHeadingRateBias(double turn_rad, double dt_s, double var_turn_rad2, double gate_chi2);
 
-  // Predicted range (scale * |m - p| + offset) and its Jacobian row (1 x n).
+  // Predicted range (scale * |m - p| + offset + o_m) and its Jacobian row (1 x n).
   double predictRange(int beacon_id, Eigen::RowVectorXd* jacobian) const;
   // Predicted robot-relative bearing and its Jacobian row (1 x n).
   double predictBearing(int beacon_id, Eigen::RowVectorXd* jacobian) const;
@@ -127,6 +143,7 @@ class EkfFilter {
   Eigen::VectorXd x_;
   Eigen::MatrixXd P_;
   std::map<int, int> index_;  // beacon id -> index of its x in the state
+  std::map<int, int> offset_index_;  // beacon id -> index of its own range offset (if any)
 };
 
 }  // namespace ekf

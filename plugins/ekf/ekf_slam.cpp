@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string>
 
 #include "roam/estimation/motion_model.hpp"
 #include "roam/estimation/multilateration.hpp"
@@ -74,8 +75,11 @@ void EkfSlam::insertSurveyed() {
   for (const Beacon& beacon : surveyed_) {
     if (filter_.hasBeacon(beacon.id)) continue;
     pending_.erase(beacon.id);
-    filter_.addBeacon(beacon.id, Eigen::Vector2d(beacon.x_m, beacon.y_m),
-                      var_m2 * Eigen::Matrix2d::Identity());
+    // A surveyed beacon carries its own range offset state: with its position known, the
+    // offset is what its ranges disagree with the survey by. (Beacons initialised from ranges
+    // carry none: their own ranges cannot tell a beacon's offset from its distance.)
+    filter_.addBeacon(beacon.id, Eigen::Vector2d(beacon.x_m, beacon.y_m), var_m2 * Eigen::Matrix2d::Identity(),
+                      config_.beacon_range_offset_sigma_m);
     map_dirty_ = true;
   }
 }
@@ -374,6 +378,7 @@ void EkfSlam::initialiseReadyBeacons() {
         bias.offset_sigma_m = std::sqrt(filter_.covariance()(EkfFilter::kOffset, EkfFilter::kOffset));
       }
       const MultilaterationResult solve = estimation::multilaterate(consensusSightings(it->second, bias), bias, init_config_);
+      init_status_[id] = solve.status;
       if (solve.status == MultilaterationResult::Status::kReady) {
         rollbackAndInsert(id, solve);
         inserted = true;
@@ -535,8 +540,29 @@ std::map<int, int> EkfSlam::pendingBeacons() const {
 void EkfSlam::publishDiagnostics() {
   setDiagnostic("range_scale", filter_.scale());
   setDiagnostic("range_offset_m", filter_.offset());
+  for (const auto& [id, index] : filter_.beacons())
+    if (filter_.beaconOffsetIndex(id) >= 0) setDiagnostic("range_offset_beacon_" + std::to_string(id) + "_m", filter_.beaconOffset(id));
   setDiagnostic("beacons_initialised", static_cast<double>(filter_.beacons().size()));
   setDiagnostic("beacons_pending", static_cast<double>(pending_.size()));
+  // Why the pending beacons are still pending: each counted under the check its last batch
+  // solve failed (a start_pose run that initialises none is dead reckoning, and says why here).
+  static const std::array<std::pair<MultilaterationResult::Status, const char*>, 6> kReasons = {{
+      {MultilaterationResult::Status::kTooFew, "beacons_pending_too_few_ranges"},
+      {MultilaterationResult::Status::kShortBaseline, "beacons_pending_short_baseline"},
+      {MultilaterationResult::Status::kNoSolution, "beacons_pending_no_solution"},
+      {MultilaterationResult::Status::kAmbiguous, "beacons_pending_ambiguous"},
+      {MultilaterationResult::Status::kNarrowAngle, "beacons_pending_narrow_angle"},
+      {MultilaterationResult::Status::kPoorlyConstrained, "beacons_pending_poorly_constrained"},
+  }};
+  for (const auto& [status, key] : kReasons) {
+    int count = 0;
+    for (const auto& entry : pending_) {
+      auto found = init_status_.find(entry.first);
+      const auto last = found == init_status_.end() ? MultilaterationResult::Status::kTooFew : found->second;
+      count += last == status ? 1 : 0;
+    }
+    setDiagnostic(key, static_cast<double>(count));
+  }
   setDiagnostic("replays", static_cast<double>(replays_));
   setDiagnostic("stationary_bias_updates", static_cast<double>(stationary_updates_));
   setDiagnostic("calibration_reruns", static_cast<double>(calibration_reruns_));

@@ -1,6 +1,6 @@
 // Cartesian range-only EKF SLAM: roam's "ekf" estimator.
 //
-// Model: the state is [x, y, theta, (scale, offset), m1x, m1y, ...] (EkfFilter); each odometry
+// Model: the state is [x, y, theta, (scale, offset), (s, b), m1x, m1y, (o1), ...] (EkfFilter); each odometry
 // step predicts the pose with noise
 //   var_d      = (odo_distance_sigma_rel d)^2 + odo_distance_sigma_m^2,
 //   var_dtheta = (odo_heading_sigma_rel |dtheta|)^2 + odo_heading_sigma_per_sqrt_m^2 d
@@ -135,6 +135,8 @@ class EkfSlam : public Estimator {
   Path path_;
   bool map_dirty_ = false;
   std::vector<Initialisation> initialisations_;
+  // Each pending beacon's last batch-solve status (STATUS: why it is not initialised).
+  std::map<int, MultilaterationResult::Status> init_status_;
   int64_t replays_ = 0;
   int64_t gated_ = 0;
   int gated_in_row_ = 0;              // ranges to known beacons gated since the last applied one

@@ -84,6 +84,34 @@ TEST(EkfFilter, JacobiansMatchCentralDifferences) {
   }
 }
 
+TEST(EkfFilter, PerBeaconOffsetEntersTheRangeAndLearnsLikeAScalarKalman) {
+  // Robot and beacon known exactly (variance 0), beacon 7 with its own offset o ~ N(0, 1.5^2),
+  // beacon 8 without: range = |m - p| + o. Worked by hand: the prediction is sqrt(65) + 0 and
+  // d range / d o = 1; a range of sqrt(65) + 2 with sigma 1 gives S = 2.25 + 1, K = 2.25 / 3.25,
+  // o = 2 K and var(o) = (1 - K)^2 2.25 + K^2 = 2.25 / 3.25; beacon 8's range is untouched.
+  EkfFilter filter;
+  filter.reset(Eigen::Vector3d(1.0, 2.0, 0.3), Eigen::Matrix3d::Zero(), false, 0.1, 0.5);
+  filter.addBeacon(7, Eigen::Vector2d(5.0, 9.0), Eigen::Matrix2d::Zero(), 1.5);
+  filter.addBeacon(8, Eigen::Vector2d(1.0, 12.0), Eigen::Matrix2d::Zero());
+  ASSERT_EQ(filter.size(), 3 + 3 + 2);
+  const int o = filter.beaconOffsetIndex(7);
+  EXPECT_EQ(o, filter.beaconIndex(7) + 2);
+  EXPECT_EQ(filter.beaconOffsetIndex(8), -1);
+  EXPECT_NEAR(filter.covariance()(o, o), 2.25, kExact);
+  Eigen::RowVectorXd H;
+  EXPECT_NEAR(filter.predictRange(7, &H), std::sqrt(65.0), kExact);
+  EXPECT_NEAR(H(o), 1.0, kExact);
+  double nis = 0.0;
+  ASSERT_EQ(filter.updateRange(7, std::sqrt(65.0) + 2.0, 1.0, 100.0, &nis), EkfFilter::Update::kApplied);
+  const double K = 2.25 / 3.25;
+  EXPECT_NEAR(nis, 4.0 / 3.25, kExact);
+  EXPECT_NEAR(filter.beaconOffset(7), 2.0 * K, kExact);
+  EXPECT_NEAR(filter.covariance()(o, o), 2.25 / 3.25, kExact);
+  EXPECT_NEAR(filter.predictRange(7, nullptr), std::sqrt(65.0) + 2.0 * K, kExact);
+  EXPECT_NEAR(filter.predictRange(8, nullptr), 10.0, kExact);
+  EXPECT_NEAR(filter.mean()(0), 1.0, kExact);  // the pose is known: only o moved
+}
+
 TEST(EkfFilter, RangeUpdateMatchesScalarKalmanAndStaysSymmetric) {
   // Robot known exactly at the origin, beacon at (10, 0) with variance 4 per axis, range 9 with
   // sigma 1: H = [.., 1, 0] on the beacon, S = 4 + 1 = 5, K_mx = 4/5, innovation 9 - 10 = -1,

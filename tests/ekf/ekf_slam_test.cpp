@@ -391,6 +391,13 @@ TEST(EkfConfig, BadValuesNameTheKey) {
     EXPECT_NE(std::string(e.what()).find("range_sigma_m"), std::string::npos) << e.what();
   }
   try {
+    parse({{"beacon_range_offset_sigma_m", "-1"}});
+    FAIL() << "expected a ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), "beacon_range_offset_sigma_m");
+  }
+  EXPECT_EQ(parse({{"beacon_range_offset_sigma_m", "0"}}).beacon_range_offset_sigma_m, 0.0);  // 0: off
+  try {
     parse({{"gate_probability", "1.5"}});
     FAIL() << "expected a ConfigError";
   } catch (const ConfigError& e) {
