@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "odometry_calibration.hpp"
+#include "start_gauge.hpp"
 #include "thin_svd.hpp"
 
 namespace roam::spectral {
@@ -49,6 +50,14 @@ Eigen::VectorXd headingOffsetsFromLocalFit(const OdometryPath& path, const std::
     offset(j) = (cross == 0.0 && dot == 0.0) ? 0.0 : std::atan2(cross, dot);
   }
   return offset;
+}
+
+GaugeNoise gaugeNoise(const SpectralConfig& config) {
+  GaugeNoise noise;
+  noise.heading_sigma_rel = config.odo_heading_sigma_rel;
+  noise.heading_sigma_per_sqrt_m = config.odo_heading_sigma_per_sqrt_m;
+  noise.heading_sigma_rad = config.odo_heading_sigma_rad;
+  return noise;
 }
 
 }  // namespace
@@ -135,8 +144,23 @@ UpgradedStates upgradeStates(const Eigen::MatrixXd& Yhat, const std::vector<int>
         dead_reckoned.col(j) << path.x_m[poses[j]], path.y_m[poses[j]];
         utime[j] = path.utime[poses[j]];
       }
-      const Similarity similarity =
+      Similarity similarity =
           alignToDeadReckoning(shape, dead_reckoned, utime, travelled_m, config.window_s, config.align_m);
+      if (config.start_gauge == StartGaugeMode::kWholePath) {
+        // The first stretch gives scale, reflection and a first rotation; the whole run's odometry
+        // the rotation about it (start_gauge.hpp), then the translation over the first stretch.
+        const Eigen::Matrix2Xd rotated = similarity.linear * shape;
+        const StartGauge gauge = fitStartGauge(path, poses, rotated, 0.5 * config.window_s, gaugeNoise(config));
+        if (gauge.chunks > 0) {
+          const Eigen::Matrix2d turn = Eigen::Rotation2Dd(gauge.rotation_rad).toRotationMatrix();
+          similarity.linear = turn * similarity.linear;
+          int count = 0;
+          while (count < static_cast<int>(poses.size()) && travelled_m[count] <= config.align_m) ++count;
+          count = std::max(count, std::min(static_cast<int>(poses.size()), 3));
+          similarity.translation = dead_reckoned.leftCols(count).rowwise().mean() -
+                                   similarity.linear * shape.leftCols(count).rowwise().mean();
+        }
+      }
       int count = 0;
       while (count < static_cast<int>(poses.size()) && travelled_m[count] <= config.align_m) ++count;
       count = std::max(count, std::min(static_cast<int>(poses.size()), 3));
