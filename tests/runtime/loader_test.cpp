@@ -84,7 +84,9 @@ TEST(Loader, CreateFailuresCarryTheKeyAndMessage) {
 TEST(Loader, AnInstanceThatThrowsIsMarkedFailedAndIgnoresFurtherInput) {
   auto library = PluginLibrary::open(kDir, "throws");
   PluginInstance instance(library, "t", {{"fail_after", "2"}});
-  roam_odometry step{1000, 0.5, 0.0};
+  roam_odometry step{};
+  step.utime = 1000;
+  step.forward_m = 0.5;
   EXPECT_TRUE(instance.addOdometry(step));
   EXPECT_TRUE(instance.addOdometry(step));
   EXPECT_FALSE(instance.addOdometry(step));
@@ -101,7 +103,9 @@ TEST(Loader, NonFiniteInputsAreRejectedAndCountedBeforeTheEstimator) {
   roam_range range{};
   range.range_m = std::numeric_limits<double>::quiet_NaN();
   EXPECT_TRUE(instance.addRange(range));
-  roam_odometry odometry{1, std::numeric_limits<double>::infinity(), 0.0};
+  roam_odometry odometry{};
+  odometry.utime = 1;
+  odometry.forward_m = std::numeric_limits<double>::infinity();
   EXPECT_TRUE(instance.addOdometry(odometry));
   const auto status = instance.status();
   EXPECT_EQ(status.ranges_rejected, 1);

@@ -102,7 +102,9 @@ TEST(SpectralCalibration, GyroBiasIsRecoveredAndRemoved) {
     std::printf("anchor %d: calibrated %.3f m, uncalibrated %.3f m (-1: no solution)\n",
                 static_cast<int>(anchor), mean_m[0], mean_m[1]);
     ASSERT_GE(mean_m[0], 0.0);
-    if (anchor == SpectralAnchor::kStartPose) EXPECT_GT(mean_m[1], 10.0 * mean_m[0]);
+    if (anchor == SpectralAnchor::kStartPose) {
+      EXPECT_GT(mean_m[1], 10.0 * mean_m[0]);
+    }
     EXPECT_LT(mean_m[0], anchor == SpectralAnchor::kBeacons ? kDriftBeaconsBound_m : kDriftStartPoseBound_m);
   }
 }
@@ -145,7 +147,9 @@ TEST(SpectralCalibration, NoBiasNoChange) {
     slam.finish();
     ASSERT_TRUE(slam.solution().has_value());
     mean_m[calibrate ? 0 : 1] = pathErrors(slam.solution()->trajectory, run.ground_truth).mean_m;
-    if (calibrate) EXPECT_NEAR(slam.solution()->calibration.heading_rate_bias_rad_s, 0.0, kBiasTolerance_rad_s);
+    if (calibrate) {
+      EXPECT_NEAR(slam.solution()->calibration.heading_rate_bias_rad_s, 0.0, kBiasTolerance_rad_s);
+    }
   }
   std::printf("no bias: calibrated %.3f m, uncalibrated %.3f m\n", mean_m[0], mean_m[1]);
   EXPECT_LT(mean_m[0], mean_m[1] + 0.02);
