@@ -1,0 +1,188 @@
+#include "gap_fill.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+namespace roam::spectral {
+namespace {
+
+// The calibrated path's scale error (start pose: the odometry's own; beacons: fitted), a few %.
+constexpr double kScaleSigma = 0.05;
+// Translation drift of the odometry per metre travelled that the heading and scale terms leave
+// (wheel odometry, 2 % of the distance: roam-sim's --odo-distance-sigma-rel of the development runs).
+constexpr double kTranslationSigmaPerDistance = 0.02;
+// Floors of the stretch fits' stated errors: a fit of many nearly collinear points can report a
+// residual far below what the solved positions are good to (~ the range noise).
+constexpr double kMinPositionSigma_m = 0.1;
+constexpr double kMinHeadingSigma_rad = 0.01;
+// A side without a stretch fit: its heading offset is the solved pose's own, barely trusted.
+constexpr double kNoFitHeadingSigma_rad = 1.0;
+constexpr int kGaussNewtonIterations = 5;
+
+Eigen::Matrix2d rotation(double angle_rad) {
+  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
+  Eigen::Matrix2d r;
+  r << c, -s, s, c;
+  return r;
+}
+
+Eigen::Vector2d deadReckoned(const OdometryPath& path, int k) { return {path.x_m[k], path.y_m[k]}; }
+Eigen::Vector2d solvedAt(const Path& out, int k) { return {out[k].x_m, out[k].y_m}; }
+
+struct StretchFit {
+  double offset_rad = 0.0;     // solved path's heading - dead reckoning's, over the stretch
+  double sigma_rad = kNoFitHeadingSigma_rad;
+  double position_sigma_m = kMinPositionSigma_m;
+  bool fitted = false;
+};
+
+// Rotation fit (centred point sets, closed form in 2-D) of the solved poses onto dead reckoning
+// over the contiguous solved poses from `edge` stepping by `direction` (-1: back, +1: forward)
+// within stretch_us of it.
+StretchFit fitStretch(const OdometryPath& path, const std::vector<bool>& solved, const Path& out,
+                      const std::vector<double>& heading_offset_rad, int edge, int direction,
+                      int64_t stretch_us) {
+  StretchFit fit;
+  fit.offset_rad = heading_offset_rad[edge];
+  std::vector<int> poses;
+  for (int k = edge; k >= 0 && k < path.size() && solved[k] &&
+                     std::llabs(path.utime[k] - path.utime[edge]) <= stretch_us;
+       k += direction)
+    poses.push_back(k);
+  const int n = static_cast<int>(poses.size());
+  if (n < 3) return fit;
+  Eigen::Vector2d a_mean = Eigen::Vector2d::Zero(), b_mean = Eigen::Vector2d::Zero();
+  for (int k : poses) {
+    a_mean += deadReckoned(path, k);
+    b_mean += solvedAt(out, k);
+  }
+  a_mean /= n;
+  b_mean /= n;
+  double cross = 0.0, dot = 0.0, spread_m2 = 0.0;
+  for (int k : poses) {
+    const Eigen::Vector2d a = deadReckoned(path, k) - a_mean, b = solvedAt(out, k) - b_mean;
+    cross += a.x() * b.y() - a.y() * b.x();
+    dot += a.dot(b);
+    spread_m2 += a.squaredNorm();
+  }
+  if (!(spread_m2 > 0.0) || (cross == 0.0 && dot == 0.0)) return fit;
+  const double angle = std::atan2(cross, dot);
+  const Eigen::Matrix2d r = rotation(angle);
+  double residual_m2 = 0.0;
+  for (int k : poses)
+    residual_m2 += ((solvedAt(out, k) - b_mean) - r * (deadReckoned(path, k) - a_mean)).squaredNorm();
+  const double rms_m = std::sqrt(residual_m2 / n);
+  const double radius_m = std::sqrt(spread_m2 / n);
+  fit.offset_rad = angle;
+  fit.position_sigma_m = std::max(rms_m, kMinPositionSigma_m);
+  // The solved positions' errors are smooth along the path (one window bends many of them alike):
+  // counted as two independent points at the stretch's radius, not n.
+  fit.sigma_rad = std::max(std::sqrt(2.0) * fit.position_sigma_m / std::max(radius_m, 1e-9), kMinHeadingSigma_rad);
+  fit.fitted = true;
+  return fit;
+}
+
+}  // namespace
+
+void fillUnsolvedPoses(const OdometryPath& path, const std::vector<bool>& solved,
+                       const std::vector<double>& heading_offset_rad, double stretch_s, Path& out) {
+  const int T = path.size();
+  const int64_t stretch_us = static_cast<int64_t>(std::llround(stretch_s * 1e6));
+  std::vector<double> distance_m(T, 0.0);
+  for (int k = 1; k < T; ++k) distance_m[k] = distance_m[k - 1] + path.step_m[k - 1];
+  for (int k = 0; k < T;) {
+    if (solved[k]) {
+      ++k;
+      continue;
+    }
+    int end = k;
+    while (end < T && !solved[end]) ++end;
+    const int before = k - 1, after = end;  // solved neighbours (may be out of range)
+    if (before < 0 && after >= T) return;   // nothing solved: nothing to hold the fill
+    if (before < 0 || after >= T) {
+      // One-ended: dead reckoning from the solved side, turned by that side's stretch heading.
+      const int anchor = before < 0 ? after : before;
+      const StretchFit fit =
+          fitStretch(path, solved, out, heading_offset_rad, anchor, before < 0 ? +1 : -1, stretch_us);
+      const Eigen::Matrix2d r = rotation(fit.offset_rad);
+      for (int i = k; i < end; ++i) {
+        const Eigen::Vector2d xy = solvedAt(out, anchor) + r * (deadReckoned(path, i) - deadReckoned(path, anchor));
+        out[i].x_m = xy.x();
+        out[i].y_m = xy.y();
+        out[i].heading_rad = path.heading_rad[i] + fit.offset_rad;
+      }
+      k = end;
+      continue;
+    }
+    const StretchFit fit_a = fitStretch(path, solved, out, heading_offset_rad, before, -1, stretch_us);
+    const StretchFit fit_b = fitStretch(path, solved, out, heading_offset_rad, after, +1, stretch_us);
+    const double span_m = distance_m[after] - distance_m[before];
+    auto fraction = [&](double at_m) {
+      return span_m > 0.0 ? (at_m - distance_m[before]) / span_m : 0.0;
+    };
+    // Heading offsets relative to phi_a (unwrapped across the gap).
+    const double phi_a = fit_a.offset_rad;
+    const double phi_b = phi_a + wrapAngle(fit_b.offset_rad - fit_a.offset_rad);
+    // The end residual: both solved ends' scatter, and the translation the odometry itself drifts
+    // over the segment (spread linearly along it below, so marginalised here).
+    const double sigma_p = std::hypot(std::hypot(fit_a.position_sigma_m, fit_b.position_sigma_m),
+                                      kTranslationSigmaPerDistance * span_m);
+    Eigen::Vector3d theta(phi_a, phi_b - phi_a, 1.0);  // alpha, beta, s
+    const Eigen::Vector2d target = solvedAt(out, after) - solvedAt(out, before);
+    auto endDisplacement = [&](const Eigen::Vector3d& t, Eigen::Matrix<double, 2, 3>* jacobian) {
+      Eigen::Vector2d sum = Eigen::Vector2d::Zero(), d_alpha = Eigen::Vector2d::Zero(),
+                      d_beta = Eigen::Vector2d::Zero();
+      for (int m = before; m < after; ++m) {
+        const double f = span_m > 0.0 ? fraction(0.5 * (distance_m[m] + distance_m[m + 1]))
+                                      : static_cast<double>(m - before + 0.5) / (after - before);
+        const Eigen::Vector2d step = rotation(t(0) + t(1) * f) * (deadReckoned(path, m + 1) - deadReckoned(path, m));
+        const Eigen::Vector2d perpendicular(-step.y(), step.x());
+        sum += step;
+        d_alpha += perpendicular;
+        d_beta += f * perpendicular;
+      }
+      if (jacobian) *jacobian << t(2) * d_alpha, t(2) * d_beta, sum;
+      return Eigen::Vector2d(t(2) * sum);
+    };
+    for (int iteration = 0; iteration < kGaussNewtonIterations; ++iteration) {
+      Eigen::Matrix<double, 2, 3> J;
+      const Eigen::Vector2d r_end = (endDisplacement(theta, &J) - target) / sigma_p;
+      J /= sigma_p;
+      Eigen::Matrix3d H = J.transpose() * J;
+      Eigen::Vector3d g = J.transpose() * r_end;
+      // Priors: alpha ~ phi_a, alpha + beta ~ phi_b, s ~ 1.
+      const double wa = 1.0 / (fit_a.sigma_rad * fit_a.sigma_rad), wb = 1.0 / (fit_b.sigma_rad * fit_b.sigma_rad);
+      const double ws = 1.0 / (kScaleSigma * kScaleSigma);
+      H(0, 0) += wa + wb;
+      H(0, 1) += wb;
+      H(1, 0) += wb;
+      H(1, 1) += wb;
+      H(2, 2) += ws;
+      g(0) += wa * (theta(0) - phi_a) + wb * (theta(0) + theta(1) - phi_b);
+      g(1) += wb * (theta(0) + theta(1) - phi_b);
+      g(2) += ws * (theta(2) - 1.0);
+      const Eigen::Vector3d delta = H.ldlt().solve(-g);
+      if (!delta.allFinite()) break;
+      theta += delta;
+      if (delta.norm() < 1e-10) break;
+    }
+    const Eigen::Vector2d mismatch = target - endDisplacement(theta, nullptr);
+    Eigen::Vector2d xy = solvedAt(out, before);
+    for (int m = before; m + 1 < after; ++m) {
+      const double f_step = span_m > 0.0 ? fraction(0.5 * (distance_m[m] + distance_m[m + 1]))
+                                         : static_cast<double>(m - before + 0.5) / (after - before);
+      xy += theta(2) * rotation(theta(0) + theta(1) * f_step) * (deadReckoned(path, m + 1) - deadReckoned(path, m));
+      const int i = m + 1;
+      const double f = span_m > 0.0 ? fraction(distance_m[i]) : static_cast<double>(i - before) / (after - before);
+      const Eigen::Vector2d p = xy + f * mismatch;
+      out[i].x_m = p.x();
+      out[i].y_m = p.y();
+      out[i].heading_rad = path.heading_rad[i] + theta(0) + theta(1) * f;
+    }
+    k = end;
+  }
+}
+
+}  // namespace roam::spectral
