@@ -20,6 +20,12 @@ constexpr double kMinHeadingSigma_rad = 0.01;
 // A side without a stretch fit: its heading offset is the solved pose's own, barely trusted.
 constexpr double kNoFitHeadingSigma_rad = 1.0;
 constexpr int kGaussNewtonIterations = 5;
+// A solved pose beside a gap further than this many times the stretch's scatter from it, and
+// further than kEdgeOutlierFloor_m, is filled: the window-edge failures are metres off (4-6 m on
+// the development runs); 2 m, because a rigid fit of 15 s of dead reckoning extrapolated over the
+// next 15 s is itself good to ~0.5 m, and a lower floor (1 m) also moved good lawn-mower edges.
+constexpr double kEdgeOutlierSigmas = 4.0;
+constexpr double kEdgeOutlierFloor_m = 2.0;
 
 Eigen::Matrix2d rotation(double angle_rad) {
   const double c = std::cos(angle_rad), s = std::sin(angle_rad);
@@ -84,12 +90,70 @@ StretchFit fitStretch(const OdometryPath& path, const std::vector<bool>& solved,
   return fit;
 }
 
+
+// Solved poses right beside a gap rest on windows that saw ranges on one side only; with an
+// outlier among their few ranges they can be metres off. Over the contiguous solved poses within
+// stretch_us of the gap edge, the half further from the gap is fitted rigidly onto dead reckoning;
+// the nearer poses up to the last one off that fit by more than kEdgeOutlierSigmas x its scatter
+// (and by more than kEdgeOutlierFloor_m) are left to the fill.
+// Returns how many poses from the edge are untrusted.
+int untrustedEdgePoses(const OdometryPath& path, const std::vector<bool>& solved, const Path& out, int edge,
+                       int direction, int64_t stretch_us) {
+  std::vector<int> poses;
+  for (int k = edge; k >= 0 && k < path.size() && solved[k] &&
+                     std::llabs(path.utime[k] - path.utime[edge]) <= stretch_us;
+       k += direction)
+    poses.push_back(k);
+  const int n = static_cast<int>(poses.size());
+  if (n < 6) return 0;
+  const int half = n / 2;
+  Eigen::Vector2d a_mean = Eigen::Vector2d::Zero(), b_mean = Eigen::Vector2d::Zero();
+  for (int i = half; i < n; ++i) {
+    a_mean += deadReckoned(path, poses[i]);
+    b_mean += solvedAt(out, poses[i]);
+  }
+  a_mean /= (n - half);
+  b_mean /= (n - half);
+  double cross = 0.0, dot = 0.0;
+  for (int i = half; i < n; ++i) {
+    const Eigen::Vector2d a = deadReckoned(path, poses[i]) - a_mean, b = solvedAt(out, poses[i]) - b_mean;
+    cross += a.x() * b.y() - a.y() * b.x();
+    dot += a.dot(b);
+  }
+  const Eigen::Matrix2d r = rotation((cross == 0.0 && dot == 0.0) ? 0.0 : std::atan2(cross, dot));
+  auto residual = [&](int k) { return ((solvedAt(out, k) - b_mean) - r * (deadReckoned(path, k) - a_mean)).norm(); };
+  double far_m2 = 0.0;
+  for (int i = half; i < n; ++i) far_m2 += residual(poses[i]) * residual(poses[i]);
+  const double threshold_m =
+      std::max(kEdgeOutlierSigmas * std::sqrt(far_m2 / (n - half)), kEdgeOutlierFloor_m);
+  int untrusted = 0;
+  for (int i = 0; i < half; ++i)
+    if (residual(poses[i]) > threshold_m) untrusted = i + 1;
+  return untrusted;
+}
+
 }  // namespace
 
-void fillUnsolvedPoses(const OdometryPath& path, const std::vector<bool>& solved,
+void fillUnsolvedPoses(const OdometryPath& path, const std::vector<bool>& solved_given,
                        const std::vector<double>& heading_offset_rad, double stretch_s, Path& out) {
   const int T = path.size();
   const int64_t stretch_us = static_cast<int64_t>(std::llround(stretch_s * 1e6));
+  std::vector<bool> solved = solved_given;
+  for (int k = 0; k < T;) {
+    if (solved_given[k]) {
+      ++k;
+      continue;
+    }
+    int end = k;
+    while (end < T && !solved_given[end]) ++end;
+    if (k > 0 && end < T) {  // both sides solved: the gap's edges are checked
+      const int back = untrustedEdgePoses(path, solved_given, out, k - 1, -1, stretch_us);
+      const int forward = untrustedEdgePoses(path, solved_given, out, end, +1, stretch_us);
+      for (int i = 0; i < back; ++i) solved[k - 1 - i] = false;
+      for (int i = 0; i < forward; ++i) solved[end + i] = false;
+    }
+    k = end;
+  }
   std::vector<double> distance_m(T, 0.0);
   for (int k = 1; k < T; ++k) distance_m[k] = distance_m[k - 1] + path.step_m[k - 1];
   for (int k = 0; k < T;) {
