@@ -261,9 +261,9 @@ RangeInterpolator::RangeInterpolator(int num_beacons, const InterpolationConfig&
       window_us_(static_cast<int64_t>(std::llround(config.window_s * 1e6))),
       stride_us_(std::max<int64_t>(
           1, static_cast<int64_t>(std::llround(config.window_s * (1.0 - config.window_overlap) * 1e6)))),
-      sum_half_sq_(num_beacons),
-      sum_rate_(num_beacons),
-      count_(num_beacons) {}
+      sum_half_sq_{std::vector<std::vector<double>>(num_beacons), std::vector<std::vector<double>>(num_beacons)},
+      sum_rate_{std::vector<std::vector<double>>(num_beacons), std::vector<std::vector<double>>(num_beacons)},
+      count_{std::vector<std::vector<int>>(num_beacons), std::vector<std::vector<int>>(num_beacons)} {}
 
 int64_t RangeInterpolator::windowBegin(int window) const {
   return origin_utime_ + static_cast<int64_t>(window) * stride_us_;
@@ -280,11 +280,13 @@ int RangeInterpolator::windowsToCover(int64_t last_utime) const {
 }
 
 void RangeInterpolator::grow(int poses) {
-  for (int n = 0; n < num_beacons_; ++n) {
-    if (static_cast<int>(count_[n].size()) >= poses) continue;
-    sum_half_sq_[n].resize(poses, 0.0);
-    sum_rate_[n].resize(poses, 0.0);
-    count_[n].resize(poses, 0);
+  for (int part = 0; part < 2; ++part) {
+    for (int n = 0; n < num_beacons_; ++n) {
+      if (static_cast<int>(count_[part][n].size()) >= poses) continue;
+      sum_half_sq_[part][n].resize(poses, 0.0);
+      sum_rate_[part][n].resize(poses, 0.0);
+      count_[part][n].resize(poses, 0);
+    }
   }
 }
 
@@ -346,6 +348,9 @@ void RangeInterpolator::addWindow(int window, const OdometryPath& path,
     Eigen::Vector4d theta;
     if (!fitWindowModel(phi, target, config_, &theta)) continue;
     const int64_t first_us = bucket.utime.front(), last_us = bucket.utime.back();
+    // A fit whose ranges span under half the window (the window reaches into a silence or past
+    // the last range) is kept apart: used only where no fuller fit covers the pose.
+    const int part = 2 * (last_us - first_us) >= window_us_ ? 0 : 1;
     const int64_t max_gap_us = maxBridgedGap_us(bucket.utime, window_us_);
 
     size_t next = 0;  // first range at or after pose k
@@ -359,22 +364,30 @@ void RangeInterpolator::addWindow(int window, const OdometryPath& path,
       const double gx = (-theta(1) + theta(3) * u) / scale_m;
       const double gy = (-theta(2) + theta(3) * v) / scale_m;
       const double rate = gx * path.cos_heading[k] + gy * path.sin_heading[k];
-      sum_half_sq_[n][k] += half_sq;
-      sum_rate_[n][k] += rate;
-      ++count_[n][k];
+      sum_half_sq_[part][n][k] += half_sq;
+      sum_rate_[part][n][k] += rate;
+      ++count_[part][n][k];
     }
   }
 }
 
+int RangeInterpolator::part(int beacon, int pose) const {
+  if (pose >= static_cast<int>(count_[0][beacon].size())) return -1;
+  if (count_[0][beacon][pose] > 0) return 0;
+  return count_[1][beacon][pose] > 0 ? 1 : -1;
+}
+
 bool RangeInterpolator::halfSquaredRange(int beacon, int pose, double* value) const {
-  if (pose >= static_cast<int>(count_[beacon].size()) || count_[beacon][pose] == 0) return false;
-  *value = sum_half_sq_[beacon][pose] / count_[beacon][pose];
+  const int p = part(beacon, pose);
+  if (p < 0) return false;
+  *value = sum_half_sq_[p][beacon][pose] / count_[p][beacon][pose];
   return true;
 }
 
 bool RangeInterpolator::rangeRate(int beacon, int pose, double* value) const {
-  if (pose >= static_cast<int>(count_[beacon].size()) || count_[beacon][pose] == 0) return false;
-  *value = sum_rate_[beacon][pose] / count_[beacon][pose];
+  const int p = part(beacon, pose);
+  if (p < 0) return false;
+  *value = sum_rate_[p][beacon][pose] / count_[p][beacon][pose];
   return true;
 }
 
