@@ -13,10 +13,13 @@
 // zero-step limit, the derivative along the direction of travel u(heading_k):
 //   r_k = grad(d^2/2) . u = (p_k - m) . u_k,
 // which needs no division by a (possibly zero) step length. Predictions of all windows covering a
-// pose are averaged. Windows are fixed in time: window w covers
+// pose are averaged, except that a fit whose ranges of that beacon span under half its window (the
+// window reaches into a radio silence or past the beacon's last range: few ranges, one side) is
+// used only where no fuller fit covers the pose. Windows are fixed in time: window w covers
 // [t0 + w * stride, t0 + w * stride + window_s], stride = window_s * (1 - overlap).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -65,9 +68,12 @@ class RangeInterpolator {
   InterpolationConfig config_;
   int64_t origin_utime_;
   int64_t window_us_, stride_us_;
-  // [beacon][pose]
-  std::vector<std::vector<double>> sum_half_sq_, sum_rate_;
-  std::vector<std::vector<int>> count_;
+  // Which sums answer for (beacon, pose): 0 (fits whose ranges span at least half their window)
+  // if any covered it, else 1 (the shorter fits), -1 if none.
+  int part(int beacon, int pose) const;
+  // [part][beacon][pose]
+  std::array<std::vector<std::vector<double>>, 2> sum_half_sq_, sum_rate_;
+  std::array<std::vector<std::vector<int>>, 2> count_;
 };
 
 }  // namespace roam::spectral

@@ -7,19 +7,13 @@
 #include <optional>
 #include <stdexcept>
 
+#include "gap_fill.hpp"
 #include "odometry_calibration.hpp"
 #include "start_gauge.hpp"
 #include "thin_svd.hpp"
 
 namespace roam::spectral {
 namespace {
-
-Eigen::Matrix2d rotation(double angle_rad) {
-  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
-  Eigen::Matrix2d r;
-  r << c, -s, s, c;
-  return r;
-}
 
 // Rank 4: heading offset of each solved pose from a rotation fit of the learned path onto dead
 // reckoning over +-half_window_us (centred point sets; closed form in 2-D). O(T) with prefix sums.
@@ -224,50 +218,11 @@ Path assembleTrajectory(const OdometryPath& path, const std::vector<int>& poses,
     pose.heading_rad = path.heading_rad[poses[j]] + offset(j);
     solved[poses[j]] = true;
   }
-  // Bridge each run of unsolved poses [first, last] by dead reckoning from its neighbours.
-  auto deadReckonFrom = [&](int anchor, double anchor_offset, int k) {
-    const Eigen::Vector2d step(path.x_m[k] - path.x_m[anchor], path.y_m[k] - path.y_m[anchor]);
-    return Eigen::Vector2d(Eigen::Vector2d(out[anchor].x_m, out[anchor].y_m) + rotation(anchor_offset) * step);
-  };
-  std::vector<double> distance_m(T, 0.0);
-  for (int k = 1; k < T; ++k) distance_m[k] = distance_m[k - 1] + path.step_m[k - 1];
-  int j = 0;  // index into poses of the next solved pose
-  for (int k = 0; k < T;) {
-    if (solved[k]) {
-      ++k;
-      ++j;
-      continue;
-    }
-    int end = k;
-    while (end < T && !solved[end]) ++end;
-    const int before = k - 1, after = end;  // solved neighbours (may be out of range)
-    const double before_offset = before >= 0 ? offset(j - 1) : 0.0;
-    const double after_offset = after < T ? offset(j) : 0.0;
-    Eigen::Vector2d mismatch = Eigen::Vector2d::Zero();
-    if (before >= 0 && after < T)
-      mismatch = Eigen::Vector2d(out[after].x_m, out[after].y_m) - deadReckonFrom(before, before_offset, after);
-    const double span_m = after < T && before >= 0 ? distance_m[after] - distance_m[before] : 0.0;
-    for (int i = k; i < end; ++i) {
-      Eigen::Vector2d xy;
-      double heading_offset;
-      if (before < 0) {
-        xy = deadReckonFrom(after, after_offset, i);
-        heading_offset = after_offset;
-      } else if (after >= T) {
-        xy = deadReckonFrom(before, before_offset, i);
-        heading_offset = before_offset;
-      } else {
-        const double f = span_m > 0.0 ? (distance_m[i] - distance_m[before]) / span_m
-                                      : static_cast<double>(i - before) / (after - before);
-        xy = deadReckonFrom(before, before_offset, i) + f * mismatch;
-        heading_offset = before_offset + f * wrapAngle(after_offset - before_offset);
-      }
-      out[i].x_m = xy.x();
-      out[i].y_m = xy.y();
-      out[i].heading_rad = path.heading_rad[i] + heading_offset;
-    }
-    k = end;
-  }
+  // Fill each run of unsolved poses from the calibrated odometry, held by the solved poses on
+  // both sides (gap_fill.hpp).
+  std::vector<double> heading_offset_rad(T, 0.0);
+  for (int j = 0; j < C; ++j) heading_offset_rad[poses[j]] = offset(j);
+  fillUnsolvedPoses(path, solved, heading_offset_rad, heading_window_s, out);
   for (int k = 0; k < T; ++k) {
     out[k].utime = path.utime[k];
     out[k].heading_rad = wrapAngle(out[k].heading_rad);

@@ -104,6 +104,28 @@ PathKind parsePathKind(const std::string& name) {
                               "' (expected random_walk | lawn_mower | loop | figure8)");
 }
 
+RangeGap parseRangeGap(const std::string& text) {
+  const std::string usage = "range gap '" + text + "': expected START_S:DURATION_S, e.g. 120:30";
+  const size_t colon = text.find(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 == text.size()) throw std::invalid_argument(usage);
+  RangeGap gap;
+  try {
+    size_t used = 0;
+    gap.start_s = std::stod(text.substr(0, colon), &used);
+    if (used != colon) throw std::invalid_argument(usage);
+    const std::string duration = text.substr(colon + 1);
+    gap.duration_s = std::stod(duration, &used);
+    if (used != duration.size()) throw std::invalid_argument(usage);
+  } catch (const std::logic_error&) {
+    throw std::invalid_argument(usage);
+  }
+  if (!(gap.start_s >= 0.0) || !std::isfinite(gap.start_s))
+    throw std::invalid_argument(usage + " (start must be a finite number >= 0)");
+  if (!(gap.duration_s > 0.0) || !std::isfinite(gap.duration_s))
+    throw std::invalid_argument(usage + " (duration must be a finite number > 0)");
+  return gap;
+}
+
 SimConfig auvLikeWorld(uint64_t seed, int num_steps) {
   SimConfig c;
   c.seed = seed;
@@ -173,6 +195,11 @@ SimConfig nlos30LawnMowerWorld(uint64_t seed, int num_steps) {
 SimRun simulate(const SimConfig& c) {
   if (c.num_steps < 1) throw std::invalid_argument("num_steps must be >= 1");
   if (c.dt_s <= 0.0) throw std::invalid_argument("dt_s must be > 0");
+  for (const RangeGap& gap : c.range_gaps) {
+    if (!(gap.start_s >= 0.0) || !std::isfinite(gap.start_s) || !(gap.duration_s > 0.0) ||
+        !std::isfinite(gap.duration_s))
+      throw std::invalid_argument("range gap: expected start_s >= 0 and duration_s > 0");
+  }
   std::mt19937_64 rng(c.seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
@@ -276,6 +303,16 @@ SimRun simulate(const SimConfig& c) {
         run.ranges.push_back(measure(run.ground_truth[k], beacon));
       }
     }
+  }
+  // Gaps last: every random draw above is made as without them.
+  if (!c.range_gaps.empty()) {
+    auto in_gap = [&](const Range& r) {
+      const double t_s = static_cast<double>(r.utime - run.start.utime) * 1e-6;
+      for (const RangeGap& gap : c.range_gaps)
+        if (t_s >= gap.start_s && t_s < gap.start_s + gap.duration_s) return true;
+      return false;
+    };
+    run.ranges.erase(std::remove_if(run.ranges.begin(), run.ranges.end(), in_gap), run.ranges.end());
   }
   return run;
 }

@@ -10,6 +10,8 @@
 // times (the end of an odometry step) to beacons in the world frame:
 //   range = scale * |beacon - robot| + offset + noise,
 // noise ~ N(0, range_sigma) (or the two-component mixture), occasionally replaced by outliers.
+// Range gaps (every beacon silent for a while) remove the ranges inside them after everything
+// is drawn, so the rest of the run is identical, bit for bit, to the same seed without gaps.
 #pragma once
 
 #include <cstdint>
@@ -21,6 +23,12 @@
 
 namespace roam {
 namespace sim {
+
+// Every beacon silent over [start_s, start_s + duration_s), seconds after the start pose.
+struct RangeGap {
+  double start_s = 0.0;
+  double duration_s = 0.0;
+};
 
 enum class PathKind { kRandomWalk, kLawnMower, kLoop, kFigureEight };
 enum class RangeSchedule {
@@ -72,6 +80,7 @@ struct SimConfig {
                                     // (negative outlier_min: short ranges too, e.g. echoes)
   double outlier_min_m = 5.0;
   double outlier_max_m = 30.0;
+  std::vector<RangeGap> range_gaps;  // dropouts of every beacon (start >= 0, duration > 0)
 
   bool bearing = false;
   double bearing_sigma_rad = 0.0;
@@ -82,6 +91,10 @@ struct SimConfig {
 using SimRun = Dataset;
 
 SimRun simulate(const SimConfig& config);
+
+// Parses "START_S:DURATION_S" (e.g. "120:30"); throws std::invalid_argument naming the problem
+// (not two numbers, start < 0, duration <= 0).
+RangeGap parseRangeGap(const std::string& text);
 
 // Parses "random_walk" | "lawn_mower" | "loop" | "figure8"; throws std::invalid_argument otherwise.
 PathKind parsePathKind(const std::string& name);

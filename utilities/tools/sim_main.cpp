@@ -5,6 +5,7 @@
 #include <exception>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "csv_dataset.hpp"
 #include "dataset_log.hpp"
@@ -23,6 +24,7 @@ void require(bool ok, const std::string& what) {
 int main(int argc, char** argv) {
   roam::sim::SimConfig c;
   std::string output, path_kind = "lawn_mower", schedule = "all", beacons_csv;
+  std::vector<std::string> range_gaps;
   double start_x = 0, start_y = 0, start_heading = 0;
   long long start_utime = c.start_utime;
   po::options_description visible("roam-sim -o LOG [options]: a seeded synthetic range-only SLAM run");
@@ -77,6 +79,9 @@ int main(int argc, char** argv) {
        "fraction of ranges replaced by true + U(outlier-min, outlier-max)")
       ("outlier-min", po::value(&c.outlier_min_m)->default_value(c.outlier_min_m), "m")
       ("outlier-max", po::value(&c.outlier_max_m)->default_value(c.outlier_max_m), "m")
+      ("range-gap", po::value(&range_gaps)->composing(),
+       "START_S:DURATION_S: no range from any beacon in [start, start + duration), seconds after "
+       "the start pose (repeatable; the rest of the run is the same as without it)")
       ("bearing", po::bool_switch(&c.bearing), "also measure the robot-relative bearing")
       ("bearing-sigma", po::value(&c.bearing_sigma_rad)->default_value(c.bearing_sigma_rad), "rad");
   // clang-format on
@@ -99,6 +104,13 @@ int main(int argc, char** argv) {
     require(c.range_sigma_m >= 0 && c.range_sigma1_m >= 0 && c.bearing_sigma_rad >= 0,
             "--range-sigma, --mixture-sigma, --bearing-sigma: expected >= 0");
     require(c.range_rate_hz > 0, "--range-rate: expected > 0");
+    for (const std::string& gap : range_gaps) {
+      try {
+        c.range_gaps.push_back(roam::sim::parseRangeGap(gap));
+      } catch (const std::invalid_argument& e) {
+        throw std::runtime_error(std::string("--range-gap: ") + e.what());
+      }
+    }
     c.path = roam::sim::parsePathKind(path_kind);  // throws std::invalid_argument with the choices
     if (schedule == "all") c.schedule = roam::sim::RangeSchedule::kEveryStepAllBeacons;
     else if (schedule == "round_robin") c.schedule = roam::sim::RangeSchedule::kRoundRobin;
