@@ -8,8 +8,8 @@
 //   3. Metric upgrade (metric_upgrade.hpp): surveyed beacons, or the structure of X plus the
 //      start pose. Learned beacons by regression; headings from the rank-7 rows, or (rank 4)
 //      from a local rotation fit of the learned path onto dead reckoning.
-//   4. Poses the interpolation did not cover (ranging gaps) are bridged by dead reckoning
-//      between the neighbouring solved poses, the end mismatch spread along the distance.
+//   4. Poses the interpolation did not cover (ranging gaps) are bridged by the calibrated dead
+//      reckoning, turned and scaled to meet the solved stretches on both sides (gap_fill.hpp).
 #pragma once
 
 #include <optional>
