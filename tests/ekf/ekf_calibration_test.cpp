@@ -121,7 +121,7 @@ double deadReckoningError(const sim::SimRun& run) {
   return meanError(path, run.ground_truth);
 }
 
-// The brief's gyro-drift run (seed 201), 3000 steps of 0.2 s: 0.01 rad/s (0.57 deg/s) of bias.
+// The development gyro-drift run (seed 201), 3000 steps of 0.2 s: 0.01 rad/s (0.57 deg/s) of bias.
 sim::SimConfig gyroDriftFigure8() { return sim::gyroDriftFigure8World(201, 3000); }
 
 TEST(EkfCalibration, GyroDriftFigure8StartPose) {
@@ -145,7 +145,7 @@ TEST(EkfCalibration, GyroDriftFigure8StartPose) {
 }
 
 TEST(EkfCalibration, AuvSparseOutliersBeaconsBeatDeadReckoningOnEverySeedAndRepeat) {
-  // The brief's AUV-like run: 3 s steps of 4.5 m, ranges of hundreds of metres, 45 % outliers
+  // The development AUV-like run: 3 s steps of 4.5 m, ranges of hundreds of metres, 45 % outliers
   // (-150..+100 m), true sigma 2 m stated as 0.75 m, odometry 15 % noisy and 3 % short; 4
   // beacons 200 m outside the area, and 6 beacons 50 m outside. Ranges every 3.3 s cannot observe
   // a gyro bias (0.01 rad/s x 10 s per position fix = 0.1 rad): the bias stays fixed at 0. Measured
@@ -183,7 +183,7 @@ TEST(EkfCalibration, AuvSparseOutliersBeaconsBeatDeadReckoningOnEverySeedAndRepe
 }
 
 TEST(EkfCalibration, NlosThirtyPercentWithDriftingOdometryInitialisesFromThePose) {
-  // The brief's 30 % NLOS lawn-mower (ranges 2-40 m long) with worse odometry: 0.005 rad/s of
+  // The development 30 % NLOS lawn-mower (ranges 2-40 m long) with worse odometry: 0.005 rad/s of
   // gyro bias and a 3 % short distance, from the start pose. Before, no beacon passed the batch
   // solve's checks (its chi2 with the outliers in) and the run was dead reckoning (21.0 / 21.5 m);
   // with the consensus sightings every beacon enters: measured 1.27 / 0.94 m (seeds 202 / 331;
@@ -263,7 +263,7 @@ double beaconsError(const sim::SimRun& run, double offset_sigma_m) {
 }
 
 TEST(EkfCalibration, GoatsLikeAuvWithPerBeaconRangeOffsetsStaysBelowDeadReckoning) {
-  // The brief's AUV-like run as GOATS 16 has it: every beacon's ranges carry their own offset
+  // The development AUV-like run as GOATS 16 has it: every beacon's ranges carry their own offset
   // of 1-2 m (random sign; a transponder's turn-around delay) and the odometry heading is nearly
   // exact (0.0005 rad per step). Surveyed beacons, per-beacon offset states (the default, 1.5 m)
   // against none. Measured over seeds 501-516 (x dead reckoning): 0.16-1.12 with the states,
@@ -287,7 +287,7 @@ TEST(EkfCalibration, GoatsLikeAuvWithPerBeaconRangeOffsetsStaysBelowDeadReckonin
 }
 
 TEST(EkfCalibration, UwbAnchorDelaysArePerBeaconOffsets) {
-  // The brief's gyro-drift figure-8 (UWB-like: 0.3 m range noise) with each anchor's own delay,
+  // The development gyro-drift figure-8 (UWB-like: 0.3 m range noise) with each anchor's own delay,
   // 0.2-0.5 m: with surveyed beacons and no per-beacon states the shared offset cannot explain
   // them (only their mean) and the path bends between beacons. Measured (seeds 201-203): 0.179 /
   // 0.177 / 0.173 m with the states, 0.259 / 0.295 / 0.190 m without (the shared offset takes

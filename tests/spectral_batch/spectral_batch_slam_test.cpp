@@ -269,7 +269,7 @@ TEST(SpectralBatchSlam, GyroDriftIsCalibrated) {
 }
 
 TEST(SpectralBatchSlam, GyroDriftFigure8FromTheStartPose) {
-  // The held-out kind (issue 15): the brief's drifting-gyro figure-8 (20 min, 0.01 rad/s of gyro
+  // The held-out kind (issue 15): the development drifting-gyro figure-8 (20 min, 0.01 rad/s of gyro
   // bias), anchor = start_pose, default keys. Measured on seeds 201-203 of roam-sim's command:
   // 0.261 / 0.107 / 0.121 m (201-206 in the README: 0.10-0.27, mean 0.185). What is left is the
   // frame about the start (rotation and offset set by the first tens of metres), not the shape: a
@@ -296,7 +296,7 @@ TEST(SpectralBatchSlam, OdometryNoiseFromTheData) {
   // estimate_odometry_noise on the figure-8: the simulated heading noise is 0.003 rad per 0.2 m
   // step; the configured model gives sqrt(0.01^2 * 0.2 + 0.001^2 + (0.02 * 0.0167)^2) = 0.00459 rad
   // per step, so the heading scale should come out near 0.003 / 0.00459 = 0.65 (measured 0.64 on
-  // seed 204 of the brief's command). With gauge = pinned, seed 204 goes from 0.271 to 0.176 m.
+  // seed 204 of the development command). With gauge = pinned, seed 204 goes from 0.271 to 0.176 m.
   const Dataset data = sim::simulate(sim::gyroDriftFigure8World(204, 6000));
   SpectralBatchConfig config;
   config.init = SpectralBatchConfig::Init::kDeadReckoning;
