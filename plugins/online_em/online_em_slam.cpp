@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <string>
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
@@ -83,6 +84,7 @@ void OnlineEmSlam::setBeacons(const Map& surveyed) {
     landmark.prior_mean_m << beacon.x_m, beacon.y_m;
     landmark.prior_information = covariance.inverse();
     landmark.initialised = true;
+    landmark.has_offset = config_.estimate_beacon_range_offsets;
     landmark.position_m = landmark.prior_mean_m;
     landmark.covariance = covariance;
   }
@@ -103,7 +105,12 @@ int OnlineEmSlam::landmarkIndex(int id) {
 
 Eigen::Vector4d OnlineEmSlam::phi(int landmark) const {
   const Eigen::Vector2d& m = landmarks_[landmark].position_m;
-  return Eigen::Vector4d(m.x(), m.y(), range_scale_, range_offset_m_);
+  return Eigen::Vector4d(m.x(), m.y(), range_scale_, range_offset_m_ + landmarks_[landmark].range_offset_m);
+}
+
+double OnlineEmSlam::beaconRangeOffset(int id) const {
+  const auto found = index_of_id_.find(id);
+  return found == index_of_id_.end() ? 0.0 : landmarks_[found->second].range_offset_m;
 }
 
 void OnlineEmSlam::interpolate(int k, double fraction, double* x_m, double* y_m,
@@ -416,13 +423,18 @@ void OnlineEmSlam::tryInitialise(int i) {
 }
 
 void OnlineEmSlam::mStep() {
-  // Unknowns: (m_x, m_y) of each initialised landmark, then s, then b.
+  // Unknowns: (m_x, m_y) of each initialised landmark, then s, then b, then the per-beacon
+  // offsets o_i (phi_i's offset is b + o_i).
   std::vector<int> active;
   for (int i = 0; i < static_cast<int>(landmarks_.size()); ++i)
     if (landmarks_[i].initialised) active.push_back(i);
   if (active.empty()) return;
   const int num = static_cast<int>(active.size());
-  const int p = 2 * num + 2, is = 2 * num, ib = 2 * num + 1;
+  std::vector<int> offset_index(num, -1);
+  int p = 2 * num + 2;
+  for (int a = 0; a < num; ++a)
+    if (landmarks_[active[a]].has_offset) offset_index[a] = p++;
+  const int is = 2 * num, ib = 2 * num + 1;
   Eigen::MatrixXd h = Eigen::MatrixXd::Zero(p, p);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(p);
   const Eigen::VectorXd expected = statistics_.transpose() * weights_.matrix();  // sum_k w^k rho^k
@@ -433,16 +445,19 @@ void OnlineEmSlam::mStep() {
       Eigen::Vector4d vector;
       ObservationModel::unpack(expected.data() + kStatSize * active[a], &information, &vector);
       const double n = static_cast<double>(landmark.count);
-      const int idx[4] = {2 * a, 2 * a + 1, is, ib};
-      for (int r = 0; r < 4; ++r) {
-        g[idx[r]] += n * vector[r];
-        for (int c = 0; c < 4; ++c) h(idx[r], idx[c]) += n * information(r, c);
-      }
+      // phi_i = T theta: rows of T pick m_i, s and b (+ o_i).
+      Eigen::MatrixXd t = Eigen::MatrixXd::Zero(4, p);
+      t(0, 2 * a) = t(1, 2 * a + 1) = t(2, is) = t(3, ib) = 1.0;
+      if (offset_index[a] >= 0) t(3, offset_index[a]) = 1.0;
+      h += n * t.transpose() * information * t;
+      g += n * t.transpose() * vector;
     }
     if (landmark.has_prior) {
       h.block<2, 2>(2 * a, 2 * a) += landmark.prior_information;
       g.segment<2>(2 * a) += landmark.prior_information * landmark.prior_mean_m;
     }
+    if (offset_index[a] >= 0)
+      h(offset_index[a], offset_index[a]) += 1.0 / (config_.beacon_range_offset_sigma_m * config_.beacon_range_offset_sigma_m);
   }
   const double ps = 1.0 / (config_.range_scale_prior_sigma * config_.range_scale_prior_sigma);
   const double pb = 1.0 / (config_.range_offset_prior_sigma_m * config_.range_offset_prior_sigma_m);
@@ -455,6 +470,7 @@ void OnlineEmSlam::mStep() {
   for (int k = 0; k < 2 * num; ++k) free.push_back(k);
   (config_.estimate_range_scale ? free : fixed).push_back(is);
   (config_.estimate_range_offset ? free : fixed).push_back(ib);
+  for (int k = 2 * num + 2; k < p; ++k) free.push_back(k);
   fixed_value[is] = range_scale_;
   fixed_value[ib] = range_offset_m_;
   Eigen::MatrixXd h_ff = h(free, free);
@@ -473,6 +489,12 @@ void OnlineEmSlam::mStep() {
   int next = 2 * num;
   if (config_.estimate_range_scale) range_scale_ = x[next++];
   if (config_.estimate_range_offset) range_offset_m_ = x[next++];
+  for (int a = 0; a < num; ++a) {
+    if (offset_index[a] < 0) continue;
+    Landmark& landmark = landmarks_[active[a]];
+    landmark.range_offset_m = x[next++];
+    setDiagnostic("range_offset_beacon_" + std::to_string(landmark.id) + "_m", landmark.range_offset_m);
+  }
   setDiagnostic("range_scale", range_scale_);
   setDiagnostic("range_offset_m", range_offset_m_);
   setDiagnostic("landmarks_initialised", num);

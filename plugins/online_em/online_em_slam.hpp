@@ -71,6 +71,11 @@
 // Robust initialisation (multilateration.hpp): a consensus of range triples with an inlier gate
 // of 3 sr (at least 1 m).
 //
+// Per-beacon range offsets (beacon_range_offset_sigma_m, surveyed beacons): phi_i's offset is
+// b + o_i, so the landmark statistic's offset row observes o_i as well; the M-step adds o_i as an
+// unknown with prior N(0, sigma_o^2) (pseudo-observations: a beacon with few inlier ranges stays
+// near 0). The statistics are already inlier-weighted (marginal indicators).
+//
 // Range scale and offset: UWB ranges are often long by a few % (Plaza 1: 7 %); without (s, b) in
 // theta the map expands to fit them. r = s |m - p| + b is linearised in (m, s, b) like the rest.
 //
@@ -111,6 +116,8 @@ class OnlineEmSlam : public Estimator {
   Map currentMap() const;
   double rangeScale() const { return range_scale_; }
   double rangeOffset() const { return range_offset_m_; }
+  // A surveyed beacon's own range offset o_b (0 if it has none or is unknown).
+  double beaconRangeOffset(int id) const;
   const estimation::OdometryCalibration& odometryCalibration() const { return calibration_; }
   const Path& filteredPath() const { return path_; }
   double outlierWeight() const { return 1.0 - mixture_weight0_; }
@@ -128,6 +135,9 @@ class OnlineEmSlam : public Estimator {
     bool has_prior = false;
     Eigen::Vector2d prior_mean_m = Eigen::Vector2d::Zero();
     Eigen::Matrix2d prior_information = Eigen::Matrix2d::Zero();
+    // The beacon's own range offset o_b (surveyed beacons, beacon_range_offset_sigma_m > 0).
+    bool has_offset = false;
+    double range_offset_m = 0.0;
     // Ranges waiting for multilateration: mean robot pose and the observation.
     std::vector<Eigen::Vector3d> pending_poses;
     std::vector<RangeObservation> pending_observations;
