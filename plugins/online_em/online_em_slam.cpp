@@ -266,6 +266,7 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
     }
   }
   if (config_.adapt_motion_noise) adaptMotionNoise(observations);
+  if (config_.estimate_beacon_range_offsets) trackOffsetNoiseFraction(observations);
   if (degenerate) setDiagnostic("degenerate_weight_steps", ++degenerate_weight_steps_);
   if (!observations.empty()) {
     const double ess = 1.0 / weights_.square().sum();
@@ -456,8 +457,13 @@ void OnlineEmSlam::mStep() {
       h.block<2, 2>(2 * a, 2 * a) += landmark.prior_information;
       g.segment<2>(2 * a) += landmark.prior_information * landmark.prior_mean_m;
     }
-    if (offset_index[a] >= 0)
-      h(offset_index[a], offset_index[a]) += 1.0 / (config_.beacon_range_offset_sigma_m * config_.beacon_range_offset_sigma_m);
+    if (offset_index[a] >= 0) {
+      // The statistic's information on o_i treats the path as known; the cloud's spread is the
+      // missing part: each range tells o_i the fraction f = sr^2 / (sr^2 + cloud variance) of it.
+      // Deflating the data's curvature by f is, for o_i, the prior counted 1 / f times.
+      const double f = landmark.mean_inlier > 0.0 ? std::clamp(landmark.mean_inlier_noise_fraction / landmark.mean_inlier, 1e-3, 1.0) : 1.0;
+      h(offset_index[a], offset_index[a]) += 1.0 / (f * config_.beacon_range_offset_sigma_m * config_.beacon_range_offset_sigma_m);
+    }
   }
   const double ps = 1.0 / (config_.range_scale_prior_sigma * config_.range_scale_prior_sigma);
   const double pb = 1.0 / (config_.range_offset_prior_sigma_m * config_.range_offset_prior_sigma_m);
@@ -499,6 +505,29 @@ void OnlineEmSlam::mStep() {
   setDiagnostic("range_offset_m", range_offset_m_);
   setDiagnostic("landmarks_initialised", num);
   emitMap(currentMap());
+}
+
+void OnlineEmSlam::trackOffsetNoiseFraction(const std::vector<StepObservation>& observations) {
+  const int n = config_.num_particles;
+  Eigen::ArrayXd predicted(n);
+  for (const StepObservation& obs : observations) {
+    Landmark& landmark = landmarks_[obs.landmark];
+    if (obs.y.has_bearing || !landmark.has_offset) continue;
+    const Eigen::Vector4d phi_i = phi(obs.landmark);
+    double inlier = 0.0;
+    for (int k = 0; k < n; ++k) {
+      double x, y, th;
+      interpolate(k, obs.fraction, &x, &y, &th);
+      predicted[k] = phi_i[2] * std::hypot(phi_i[0] - x, phi_i[1] - y) + phi_i[3];
+      inlier += weights_[k] * (1.0 - obs.wide_probability[k]);
+    }
+    const double cloud_m2 = (predicted - predicted.mean()).square().mean();
+    const double sr = (obs.y.sigma_m > 0.0 ? obs.y.sigma_m : config_.range_sigma_m) * inlier_sigma0_;
+    ++landmark.offset_ranges;
+    const double gamma = std::min(1.0, config_.step_c / std::pow(static_cast<double>(landmark.offset_ranges), config_.step_alpha));
+    landmark.mean_inlier = (1.0 - gamma) * landmark.mean_inlier + gamma * inlier;
+    landmark.mean_inlier_noise_fraction = (1.0 - gamma) * landmark.mean_inlier_noise_fraction + gamma * inlier * sr * sr / (sr * sr + cloud_m2);
+  }
 }
 
 void OnlineEmSlam::mixtureMStep() {

@@ -74,7 +74,9 @@
 // Per-beacon range offsets (beacon_range_offset_sigma_m, surveyed beacons): phi_i's offset is
 // b + o_i, so the landmark statistic's offset row observes o_i as well; the M-step adds o_i as an
 // unknown with prior N(0, sigma_o^2) (pseudo-observations: a beacon with few inlier ranges stays
-// near 0). The statistics are already inlier-weighted (marginal indicators).
+// near 0). The statistics are already inlier-weighted (marginal indicators). The statistic treats
+// the path as known: the cloud's predicted-range variance v_c is missing information, so o_i's
+// data curvature is deflated by f = sr^2 / (sr^2 + v_c) (running average over its inlier ranges).
 //
 // Range scale and offset: UWB ranges are often long by a few % (Plaza 1: 7 %); without (s, b) in
 // theta the map expands to fit them. r = s |m - p| + b is linearised in (m, s, b) like the rest.
@@ -138,6 +140,9 @@ class OnlineEmSlam : public Estimator {
     // The beacon's own range offset o_b (surveyed beacons, beacon_range_offset_sigma_m > 0).
     bool has_offset = false;
     double range_offset_m = 0.0;
+    // Running averages over its ranges of P(inlier) and P(inlier) sr^2 / (sr^2 + cloud variance).
+    int64_t offset_ranges = 0;
+    double mean_inlier = 0.0, mean_inlier_noise_fraction = 0.0;
     // Ranges waiting for multilateration: mean robot pose and the observation.
     std::vector<Eigen::Vector3d> pending_poses;
     std::vector<RangeObservation> pending_observations;
@@ -221,6 +226,7 @@ class OnlineEmSlam : public Estimator {
   // Adaptive motion noise (adapt_motion_noise): running averages of pi (e^2 - sr^2 - v_map)
   // and pi v / kappa^2 over the ranges, and the scale kappa.
   void adaptMotionNoise(const std::vector<StepObservation>& observations);
+  void trackOffsetNoiseFraction(const std::vector<StepObservation>& observations);
   double motion_noise_scale_ = 1.0;
   double mean_excess_m2_ = 0.0, mean_cloud_m2_ = 0.0, mean_predicted_m2_ = 0.0, weight_square_sum_ = 0.0;
   int64_t noise_ranges_ = 0;
