@@ -72,6 +72,11 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
       .min(0.0, false);
   options.add("beacon_prior_sigma_m", &c->beacon_prior_sigma_m, "surveyed beacon sigma if not given")
       .min(0.0, false);
+  options.add("estimate_beacon_range_offsets", &c->estimate_beacon_range_offsets,
+              "each surveyed beacon's own range offset in theta (anchor = beacons)");
+  options.add("beacon_range_offset_sigma_m", &c->beacon_range_offset_sigma_m,
+              "prior sigma of each surveyed beacon's own range offset around 0")
+      .min(0.0, false);
   options.add("init_min_ranges", &c->init_min_ranges, "ranges before multilateration").min(3);
   options.add("init_outlier_gate_sigmas", &c->init_outlier_gate_sigmas,
               "multilateration inlier gate in range sigmas (0: least squares on all)").min(0.0);

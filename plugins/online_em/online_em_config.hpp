@@ -174,6 +174,16 @@ struct OnlineEmConfig {
   double range_offset_prior_sigma_m = 1.0;
   // Prior sigma of a surveyed beacon whose covariance is not given (anchor = beacons).
   double beacon_prior_sigma_m = 0.1;
+  // Per-beacon range offsets (anchor = beacons): each surveyed beacon's ranges read
+  // scale * distance + offset + o_b, o_b ~ N(0, beacon_range_offset_sigma_m^2) (a transponder's
+  // turn-around delay or an anchor's antenna delay is the beacon's own; GOATS: 1-2 m). o_b is in
+  // theta, solved in the M-step with the beacon's smoothed statistics (inlier-weighted by the
+  // mixture's posterior) and the prior as pseudo-observations. The EKF's key and default:
+  // offsets of either sign, magnitude uniform in [1, 2] m, have sigma sqrt(7/3) = 1.53 m.
+  // Off by default (estimate_beacon_range_offsets): on the synthetic AUV-like runs without
+  // offsets the o_b absorb the path's metres of error (README "Per-beacon range offsets").
+  bool estimate_beacon_range_offsets = false;
+  double beacon_range_offset_sigma_m = 1.5;
 
   // Multilateration of a new landmark: wait for this many ranges taken from positions whose
   // spread (sqrt of the smaller eigenvalue of their covariance) is at least init_min_spread_m,

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <string>
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
@@ -83,6 +84,7 @@ void OnlineEmSlam::setBeacons(const Map& surveyed) {
     landmark.prior_mean_m << beacon.x_m, beacon.y_m;
     landmark.prior_information = covariance.inverse();
     landmark.initialised = true;
+    landmark.has_offset = config_.estimate_beacon_range_offsets;
     landmark.position_m = landmark.prior_mean_m;
     landmark.covariance = covariance;
   }
@@ -103,7 +105,12 @@ int OnlineEmSlam::landmarkIndex(int id) {
 
 Eigen::Vector4d OnlineEmSlam::phi(int landmark) const {
   const Eigen::Vector2d& m = landmarks_[landmark].position_m;
-  return Eigen::Vector4d(m.x(), m.y(), range_scale_, range_offset_m_);
+  return Eigen::Vector4d(m.x(), m.y(), range_scale_, range_offset_m_ + landmarks_[landmark].range_offset_m);
+}
+
+double OnlineEmSlam::beaconRangeOffset(int id) const {
+  const auto found = index_of_id_.find(id);
+  return found == index_of_id_.end() ? 0.0 : landmarks_[found->second].range_offset_m;
 }
 
 void OnlineEmSlam::interpolate(int k, double fraction, double* x_m, double* y_m,
@@ -259,6 +266,7 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
     }
   }
   if (config_.adapt_motion_noise) adaptMotionNoise(observations);
+  if (config_.estimate_beacon_range_offsets) trackOffsetNoiseFraction(observations);
   if (degenerate) setDiagnostic("degenerate_weight_steps", ++degenerate_weight_steps_);
   if (!observations.empty()) {
     const double ess = 1.0 / weights_.square().sum();
@@ -416,13 +424,18 @@ void OnlineEmSlam::tryInitialise(int i) {
 }
 
 void OnlineEmSlam::mStep() {
-  // Unknowns: (m_x, m_y) of each initialised landmark, then s, then b.
+  // Unknowns: (m_x, m_y) of each initialised landmark, then s, then b, then the per-beacon
+  // offsets o_i (phi_i's offset is b + o_i).
   std::vector<int> active;
   for (int i = 0; i < static_cast<int>(landmarks_.size()); ++i)
     if (landmarks_[i].initialised) active.push_back(i);
   if (active.empty()) return;
   const int num = static_cast<int>(active.size());
-  const int p = 2 * num + 2, is = 2 * num, ib = 2 * num + 1;
+  std::vector<int> offset_index(num, -1);
+  int p = 2 * num + 2;
+  for (int a = 0; a < num; ++a)
+    if (landmarks_[active[a]].has_offset) offset_index[a] = p++;
+  const int is = 2 * num, ib = 2 * num + 1;
   Eigen::MatrixXd h = Eigen::MatrixXd::Zero(p, p);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(p);
   const Eigen::VectorXd expected = statistics_.transpose() * weights_.matrix();  // sum_k w^k rho^k
@@ -433,15 +446,23 @@ void OnlineEmSlam::mStep() {
       Eigen::Vector4d vector;
       ObservationModel::unpack(expected.data() + kStatSize * active[a], &information, &vector);
       const double n = static_cast<double>(landmark.count);
-      const int idx[4] = {2 * a, 2 * a + 1, is, ib};
-      for (int r = 0; r < 4; ++r) {
-        g[idx[r]] += n * vector[r];
-        for (int c = 0; c < 4; ++c) h(idx[r], idx[c]) += n * information(r, c);
-      }
+      // phi_i = T theta: rows of T pick m_i, s and b (+ o_i).
+      Eigen::MatrixXd t = Eigen::MatrixXd::Zero(4, p);
+      t(0, 2 * a) = t(1, 2 * a + 1) = t(2, is) = t(3, ib) = 1.0;
+      if (offset_index[a] >= 0) t(3, offset_index[a]) = 1.0;
+      h += n * t.transpose() * information * t;
+      g += n * t.transpose() * vector;
     }
     if (landmark.has_prior) {
       h.block<2, 2>(2 * a, 2 * a) += landmark.prior_information;
       g.segment<2>(2 * a) += landmark.prior_information * landmark.prior_mean_m;
+    }
+    if (offset_index[a] >= 0) {
+      // The statistic's information on o_i treats the path as known; the cloud's spread is the
+      // missing part: each range tells o_i the fraction f = sr^2 / (sr^2 + cloud variance) of it.
+      // Deflating the data's curvature by f is, for o_i, the prior counted 1 / f times.
+      const double f = landmark.mean_inlier > 0.0 ? std::clamp(landmark.mean_inlier_noise_fraction / landmark.mean_inlier, 1e-3, 1.0) : 1.0;
+      h(offset_index[a], offset_index[a]) += 1.0 / (f * config_.beacon_range_offset_sigma_m * config_.beacon_range_offset_sigma_m);
     }
   }
   const double ps = 1.0 / (config_.range_scale_prior_sigma * config_.range_scale_prior_sigma);
@@ -455,6 +476,7 @@ void OnlineEmSlam::mStep() {
   for (int k = 0; k < 2 * num; ++k) free.push_back(k);
   (config_.estimate_range_scale ? free : fixed).push_back(is);
   (config_.estimate_range_offset ? free : fixed).push_back(ib);
+  for (int k = 2 * num + 2; k < p; ++k) free.push_back(k);
   fixed_value[is] = range_scale_;
   fixed_value[ib] = range_offset_m_;
   Eigen::MatrixXd h_ff = h(free, free);
@@ -473,10 +495,39 @@ void OnlineEmSlam::mStep() {
   int next = 2 * num;
   if (config_.estimate_range_scale) range_scale_ = x[next++];
   if (config_.estimate_range_offset) range_offset_m_ = x[next++];
+  for (int a = 0; a < num; ++a) {
+    if (offset_index[a] < 0) continue;
+    Landmark& landmark = landmarks_[active[a]];
+    landmark.range_offset_m = x[next++];
+    setDiagnostic("range_offset_beacon_" + std::to_string(landmark.id) + "_m", landmark.range_offset_m);
+  }
   setDiagnostic("range_scale", range_scale_);
   setDiagnostic("range_offset_m", range_offset_m_);
   setDiagnostic("landmarks_initialised", num);
   emitMap(currentMap());
+}
+
+void OnlineEmSlam::trackOffsetNoiseFraction(const std::vector<StepObservation>& observations) {
+  const int n = config_.num_particles;
+  Eigen::ArrayXd predicted(n);
+  for (const StepObservation& obs : observations) {
+    Landmark& landmark = landmarks_[obs.landmark];
+    if (obs.y.has_bearing || !landmark.has_offset) continue;
+    const Eigen::Vector4d phi_i = phi(obs.landmark);
+    double inlier = 0.0;
+    for (int k = 0; k < n; ++k) {
+      double x, y, th;
+      interpolate(k, obs.fraction, &x, &y, &th);
+      predicted[k] = phi_i[2] * std::hypot(phi_i[0] - x, phi_i[1] - y) + phi_i[3];
+      inlier += weights_[k] * (1.0 - obs.wide_probability[k]);
+    }
+    const double cloud_m2 = (predicted - predicted.mean()).square().mean();
+    const double sr = (obs.y.sigma_m > 0.0 ? obs.y.sigma_m : config_.range_sigma_m) * inlier_sigma0_;
+    ++landmark.offset_ranges;
+    const double gamma = std::min(1.0, config_.step_c / std::pow(static_cast<double>(landmark.offset_ranges), config_.step_alpha));
+    landmark.mean_inlier = (1.0 - gamma) * landmark.mean_inlier + gamma * inlier;
+    landmark.mean_inlier_noise_fraction = (1.0 - gamma) * landmark.mean_inlier_noise_fraction + gamma * inlier * sr * sr / (sr * sr + cloud_m2);
+  }
 }
 
 void OnlineEmSlam::mixtureMStep() {

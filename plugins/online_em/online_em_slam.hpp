@@ -71,6 +71,13 @@
 // Robust initialisation (multilateration.hpp): a consensus of range triples with an inlier gate
 // of 3 sr (at least 1 m).
 //
+// Per-beacon range offsets (beacon_range_offset_sigma_m, surveyed beacons): phi_i's offset is
+// b + o_i, so the landmark statistic's offset row observes o_i as well; the M-step adds o_i as an
+// unknown with prior N(0, sigma_o^2) (pseudo-observations: a beacon with few inlier ranges stays
+// near 0). The statistics are already inlier-weighted (marginal indicators). The statistic treats
+// the path as known: the cloud's predicted-range variance v_c is missing information, so o_i's
+// data curvature is deflated by f = sr^2 / (sr^2 + v_c) (running average over its inlier ranges).
+//
 // Range scale and offset: UWB ranges are often long by a few % (Plaza 1: 7 %); without (s, b) in
 // theta the map expands to fit them. r = s |m - p| + b is linearised in (m, s, b) like the rest.
 //
@@ -111,6 +118,8 @@ class OnlineEmSlam : public Estimator {
   Map currentMap() const;
   double rangeScale() const { return range_scale_; }
   double rangeOffset() const { return range_offset_m_; }
+  // A surveyed beacon's own range offset o_b (0 if it has none or is unknown).
+  double beaconRangeOffset(int id) const;
   const estimation::OdometryCalibration& odometryCalibration() const { return calibration_; }
   const Path& filteredPath() const { return path_; }
   double outlierWeight() const { return 1.0 - mixture_weight0_; }
@@ -128,6 +137,12 @@ class OnlineEmSlam : public Estimator {
     bool has_prior = false;
     Eigen::Vector2d prior_mean_m = Eigen::Vector2d::Zero();
     Eigen::Matrix2d prior_information = Eigen::Matrix2d::Zero();
+    // The beacon's own range offset o_b (surveyed beacons, beacon_range_offset_sigma_m > 0).
+    bool has_offset = false;
+    double range_offset_m = 0.0;
+    // Running averages over its ranges of P(inlier) and P(inlier) sr^2 / (sr^2 + cloud variance).
+    int64_t offset_ranges = 0;
+    double mean_inlier = 0.0, mean_inlier_noise_fraction = 0.0;
     // Ranges waiting for multilateration: mean robot pose and the observation.
     std::vector<Eigen::Vector3d> pending_poses;
     std::vector<RangeObservation> pending_observations;
@@ -211,6 +226,7 @@ class OnlineEmSlam : public Estimator {
   // Adaptive motion noise (adapt_motion_noise): running averages of pi (e^2 - sr^2 - v_map)
   // and pi v / kappa^2 over the ranges, and the scale kappa.
   void adaptMotionNoise(const std::vector<StepObservation>& observations);
+  void trackOffsetNoiseFraction(const std::vector<StepObservation>& observations);
   double motion_noise_scale_ = 1.0;
   double mean_excess_m2_ = 0.0, mean_cloud_m2_ = 0.0, mean_predicted_m2_ = 0.0, weight_square_sum_ = 0.0;
   int64_t noise_ranges_ = 0;

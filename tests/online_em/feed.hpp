@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "../common/feed.hpp"
+#include "roam/estimation/motion_model.hpp"
 
 namespace roam {
 namespace online_em_test {
@@ -44,6 +45,25 @@ inline double mapError(const Map& estimate, const Map& truth) {
     sum += e;
   }
   return sum / truth.size();
+}
+
+// Mean error of the run's own odometry composed from the start pose (dead reckoning).
+inline double deadReckoningError(const Dataset& data) {
+  Path path;
+  Eigen::Vector3d pose(data.start.x_m, data.start.y_m, data.start.heading_rad);
+  int64_t utime = data.start.utime;
+  Pose p = data.start;
+  path.push_back(p);
+  for (const Odometry& odometry : data.odometry) {
+    const double dt_s = 1e-6 * static_cast<double>(odometry.utime - utime);
+    pose = estimation::step(pose, estimation::calibratedIncrement(odometry, dt_s, estimation::OdometryCalibration{}));
+    utime = odometry.utime;
+    p.utime = utime;
+    p.x_m = pose.x();
+    p.y_m = pose.y();
+    path.push_back(p);
+  }
+  return meanError(path, data.ground_truth);
 }
 
 }  // namespace online_em_test

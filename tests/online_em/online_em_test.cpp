@@ -13,6 +13,7 @@
 namespace roam {
 namespace {
 
+using online_em_test::deadReckoningError;
 using online_em_test::feed;
 using online_em_test::mapError;
 using online_em_test::meanError;
@@ -298,25 +299,6 @@ TEST(OnlineEmOutliers, AuvMixtureIsLearned) {
   feed(data, fixed);
   EXPECT_EQ(fixed.outlierWeight(), 1.0 - off.mixture_weight0);
   EXPECT_GT(meanError(fixed.filteredPath(), data.ground_truth), mean_m);
-}
-
-// Mean error of the run's own odometry composed from the start pose (dead reckoning).
-double deadReckoningError(const Dataset& data) {
-  Path path;
-  Eigen::Vector3d pose(data.start.x_m, data.start.y_m, data.start.heading_rad);
-  int64_t utime = data.start.utime;
-  Pose p = data.start;
-  path.push_back(p);
-  for (const Odometry& odometry : data.odometry) {
-    const double dt_s = 1e-6 * static_cast<double>(odometry.utime - utime);
-    pose = estimation::step(pose, estimation::calibratedIncrement(odometry, dt_s, estimation::OdometryCalibration{}));
-    utime = odometry.utime;
-    p.utime = utime;
-    p.x_m = pose.x();
-    p.y_m = pose.y();
-    path.push_back(p);
-  }
-  return meanError(path, data.ground_truth);
 }
 
 // Issue 15's AUV target: within 1.25 x dead reckoning in both anchors with the defaults, on
