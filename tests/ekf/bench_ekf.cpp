@@ -1,4 +1,5 @@
-// bench_ekf: CPU per filter update with 4 beacons (state of 13: pose, scale, offset, 4 x 2).
+// bench_ekf: CPU per filter update with 4 surveyed beacons (state of 19: pose 3, odometry
+// calibration 2, range scale and offset 2, beacons 4 x 2, each beacon's own range offset 4).
 // One iteration = one odometry step carrying one range (the Plaza pattern: ~2 ranges/s at 5 Hz
 // odometry, so a step holds at most one or two ranges). Target: median < 20 us.
 #include <benchmark/benchmark.h>

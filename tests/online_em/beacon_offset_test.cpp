@@ -98,7 +98,7 @@ TEST(OnlineEmBeaconOffsets, UwbOffsetsAreRecovered) {
 }
 
 // The prior is a count of pseudo-observations: at 1 cm the offsets stay at 0; the STATUS keys
-// name each beacon; off by default.
+// name each beacon; on by default, and the key turns them off.
 TEST(OnlineEmBeaconOffsets, PriorHoldsAndStatusNamesEachBeacon) {
   Dataset biased = sim::simulate(uwbWorld(7));
   addBeaconOffsets(&biased, 1007);
@@ -112,10 +112,10 @@ TEST(OnlineEmBeaconOffsets, PriorHoldsAndStatusNamesEachBeacon) {
   for (const Beacon& beacon : biased.beacons)
     EXPECT_EQ(slam.diagnostics().at("range_offset_beacon_" + std::to_string(beacon.id) + "_m"),
               slam.beaconRangeOffset(beacon.id));
-  EXPECT_FALSE(OnlineEmConfig{}.estimate_beacon_range_offsets);
+  EXPECT_TRUE(OnlineEmConfig{}.estimate_beacon_range_offsets);
   EXPECT_EQ(OnlineEmConfig{}.beacon_range_offset_sigma_m, 1.5);
   OnlineEmConfig defaults;
-  setOptions(&defaults, addOnlineEmOptions, {{"anchor", "beacons"}});
+  setOptions(&defaults, addOnlineEmOptions, {{"anchor", "beacons"}, {"estimate_beacon_range_offsets", "false"}});
   OnlineEmSlam plain(defaults);
   feed(biased, plain);
   EXPECT_EQ(plain.diagnostics().count("range_offset_beacon_0_m"), 0u);
