@@ -37,6 +37,68 @@ Eigen::Matrix2d rotation(double angle_rad) {
 Eigen::Vector2d deadReckoned(const OdometryPath& path, int k) { return {path.x_m[k], path.y_m[k]}; }
 Eigen::Vector2d solvedAt(const Path& out, int k) { return {out[k].x_m, out[k].y_m}; }
 
+// The contiguous solved poses from `edge` stepping by `direction` (-1: back, +1: forward) within
+// stretch_us of it, nearest first.
+std::vector<int> stretchPoses(const OdometryPath& path, const std::vector<bool>& solved, int edge, int direction,
+                              int64_t stretch_us) {
+  std::vector<int> poses;
+  for (int k = edge; k >= 0 && k < path.size() && solved[k] &&
+                     std::llabs(path.utime[k] - path.utime[edge]) <= stretch_us;
+       k += direction)
+    poses.push_back(k);
+  return poses;
+}
+
+// Rotation fit (centred point sets, closed form in 2-D) of the solved poses poses[first, n) onto
+// dead reckoning: solved - b_mean ~ R(angle_rad) (dead reckoning - a_mean).
+struct RigidFit {
+  Eigen::Vector2d a_mean = Eigen::Vector2d::Zero();  // dead reckoning's centroid
+  Eigen::Vector2d b_mean = Eigen::Vector2d::Zero();  // the solved positions' centroid
+  double cross = 0.0, dot = 0.0, spread_m2 = 0.0;    // the fit's sums (spread: of dead reckoning)
+  double angle_rad = 0.0;                             // 0 when the fit is degenerate
+  Eigen::Matrix2d r = Eigen::Matrix2d::Identity();    // rotation(angle_rad)
+  bool degenerate() const { return cross == 0.0 && dot == 0.0; }
+  Eigen::Vector2d residual(const OdometryPath& path, const Path& out, int k) const {
+    return (solvedAt(out, k) - b_mean) - r * (deadReckoned(path, k) - a_mean);
+  }
+};
+
+RigidFit fitRigid(const OdometryPath& path, const Path& out, const std::vector<int>& poses, int first) {
+  RigidFit fit;
+  const int n = static_cast<int>(poses.size());
+  for (int i = first; i < n; ++i) {
+    fit.a_mean += deadReckoned(path, poses[i]);
+    fit.b_mean += solvedAt(out, poses[i]);
+  }
+  fit.a_mean /= (n - first);
+  fit.b_mean /= (n - first);
+  for (int i = first; i < n; ++i) {
+    const Eigen::Vector2d a = deadReckoned(path, poses[i]) - fit.a_mean, b = solvedAt(out, poses[i]) - fit.b_mean;
+    fit.cross += a.x() * b.y() - a.y() * b.x();
+    fit.dot += a.dot(b);
+    fit.spread_m2 += a.squaredNorm();
+  }
+  fit.angle_rad = fit.degenerate() ? 0.0 : std::atan2(fit.cross, fit.dot);
+  fit.r = rotation(fit.angle_rad);
+  return fit;
+}
+
+// Calls run(begin, end) for each maximal run [begin, end) of poses with !solved[k], in order.
+template <typename Run>
+void forEachUnsolvedRun(const std::vector<bool>& solved, Run run) {
+  const int T = static_cast<int>(solved.size());
+  for (int k = 0; k < T;) {
+    if (solved[k]) {
+      ++k;
+      continue;
+    }
+    int end = k;
+    while (end < T && !solved[end]) ++end;
+    run(k, end);
+    k = end;
+  }
+}
+
 struct StretchFit {
   double offset_rad = 0.0;     // solved path's heading - dead reckoning's, over the stretch
   double sigma_rad = kNoFitHeadingSigma_rad;
@@ -44,44 +106,23 @@ struct StretchFit {
   bool fitted = false;
 };
 
-// Rotation fit (centred point sets, closed form in 2-D) of the solved poses onto dead reckoning
-// over the contiguous solved poses from `edge` stepping by `direction` (-1: back, +1: forward)
-// within stretch_us of it.
+// Rotation fit of the solved poses onto dead reckoning over the stretch from `edge` stepping by
+// `direction` (-1: back, +1: forward) within stretch_us of it.
 StretchFit fitStretch(const OdometryPath& path, const std::vector<bool>& solved, const Path& out,
                       const std::vector<double>& heading_offset_rad, int edge, int direction,
                       int64_t stretch_us) {
   StretchFit fit;
   fit.offset_rad = heading_offset_rad[edge];
-  std::vector<int> poses;
-  for (int k = edge; k >= 0 && k < path.size() && solved[k] &&
-                     std::llabs(path.utime[k] - path.utime[edge]) <= stretch_us;
-       k += direction)
-    poses.push_back(k);
+  const std::vector<int> poses = stretchPoses(path, solved, edge, direction, stretch_us);
   const int n = static_cast<int>(poses.size());
   if (n < 3) return fit;
-  Eigen::Vector2d a_mean = Eigen::Vector2d::Zero(), b_mean = Eigen::Vector2d::Zero();
-  for (int k : poses) {
-    a_mean += deadReckoned(path, k);
-    b_mean += solvedAt(out, k);
-  }
-  a_mean /= n;
-  b_mean /= n;
-  double cross = 0.0, dot = 0.0, spread_m2 = 0.0;
-  for (int k : poses) {
-    const Eigen::Vector2d a = deadReckoned(path, k) - a_mean, b = solvedAt(out, k) - b_mean;
-    cross += a.x() * b.y() - a.y() * b.x();
-    dot += a.dot(b);
-    spread_m2 += a.squaredNorm();
-  }
-  if (!(spread_m2 > 0.0) || (cross == 0.0 && dot == 0.0)) return fit;
-  const double angle = std::atan2(cross, dot);
-  const Eigen::Matrix2d r = rotation(angle);
+  const RigidFit rigid = fitRigid(path, out, poses, 0);
+  if (!(rigid.spread_m2 > 0.0) || rigid.degenerate()) return fit;
   double residual_m2 = 0.0;
-  for (int k : poses)
-    residual_m2 += ((solvedAt(out, k) - b_mean) - r * (deadReckoned(path, k) - a_mean)).squaredNorm();
+  for (int k : poses) residual_m2 += rigid.residual(path, out, k).squaredNorm();
   const double rms_m = std::sqrt(residual_m2 / n);
-  const double radius_m = std::sqrt(spread_m2 / n);
-  fit.offset_rad = angle;
+  const double radius_m = std::sqrt(rigid.spread_m2 / n);
+  fit.offset_rad = rigid.angle_rad;
   fit.position_sigma_m = std::max(rms_m, kMinPositionSigma_m);
   // The solved positions' errors are smooth along the path (one window bends many of them alike):
   // counted as two independent points at the stretch's radius, not n.
@@ -89,7 +130,6 @@ StretchFit fitStretch(const OdometryPath& path, const std::vector<bool>& solved,
   fit.fitted = true;
   return fit;
 }
-
 
 // Solved poses right beside a gap rest on windows that saw ranges on one side only; with an
 // outlier among their few ranges they can be metres off. Over the contiguous solved poses within
@@ -99,29 +139,12 @@ StretchFit fitStretch(const OdometryPath& path, const std::vector<bool>& solved,
 // Returns how many poses from the edge are untrusted.
 int untrustedEdgePoses(const OdometryPath& path, const std::vector<bool>& solved, const Path& out, int edge,
                        int direction, int64_t stretch_us) {
-  std::vector<int> poses;
-  for (int k = edge; k >= 0 && k < path.size() && solved[k] &&
-                     std::llabs(path.utime[k] - path.utime[edge]) <= stretch_us;
-       k += direction)
-    poses.push_back(k);
+  const std::vector<int> poses = stretchPoses(path, solved, edge, direction, stretch_us);
   const int n = static_cast<int>(poses.size());
   if (n < 6) return 0;
   const int half = n / 2;
-  Eigen::Vector2d a_mean = Eigen::Vector2d::Zero(), b_mean = Eigen::Vector2d::Zero();
-  for (int i = half; i < n; ++i) {
-    a_mean += deadReckoned(path, poses[i]);
-    b_mean += solvedAt(out, poses[i]);
-  }
-  a_mean /= (n - half);
-  b_mean /= (n - half);
-  double cross = 0.0, dot = 0.0;
-  for (int i = half; i < n; ++i) {
-    const Eigen::Vector2d a = deadReckoned(path, poses[i]) - a_mean, b = solvedAt(out, poses[i]) - b_mean;
-    cross += a.x() * b.y() - a.y() * b.x();
-    dot += a.dot(b);
-  }
-  const Eigen::Matrix2d r = rotation((cross == 0.0 && dot == 0.0) ? 0.0 : std::atan2(cross, dot));
-  auto residual = [&](int k) { return ((solvedAt(out, k) - b_mean) - r * (deadReckoned(path, k) - a_mean)).norm(); };
+  const RigidFit far_half = fitRigid(path, out, poses, half);
+  auto residual = [&](int k) { return far_half.residual(path, out, k).norm(); };
   double far_m2 = 0.0;
   for (int i = half; i < n; ++i) far_m2 += residual(poses[i]) * residual(poses[i]);
   const double threshold_m =
@@ -139,46 +162,31 @@ void fillUnsolvedPoses(const OdometryPath& path, const std::vector<bool>& solved
   const int T = path.size();
   const int64_t stretch_us = static_cast<int64_t>(std::llround(stretch_s * 1e6));
   std::vector<bool> solved = solved_given;
-  for (int k = 0; k < T;) {
-    if (solved_given[k]) {
-      ++k;
-      continue;
-    }
-    int end = k;
-    while (end < T && !solved_given[end]) ++end;
-    if (k > 0 && end < T) {  // both sides solved: the gap's edges are checked
-      const int back = untrustedEdgePoses(path, solved_given, out, k - 1, -1, stretch_us);
-      const int forward = untrustedEdgePoses(path, solved_given, out, end, +1, stretch_us);
-      for (int i = 0; i < back; ++i) solved[k - 1 - i] = false;
-      for (int i = 0; i < forward; ++i) solved[end + i] = false;
-    }
-    k = end;
-  }
+  forEachUnsolvedRun(solved_given, [&](int begin, int end) {
+    if (begin == 0 || end == T) return;  // the gap's edges are checked where both sides are solved
+    const int back = untrustedEdgePoses(path, solved_given, out, begin - 1, -1, stretch_us);
+    const int forward = untrustedEdgePoses(path, solved_given, out, end, +1, stretch_us);
+    for (int i = 0; i < back; ++i) solved[begin - 1 - i] = false;
+    for (int i = 0; i < forward; ++i) solved[end + i] = false;
+  });
   std::vector<double> distance_m(T, 0.0);
   for (int k = 1; k < T; ++k) distance_m[k] = distance_m[k - 1] + path.step_m[k - 1];
-  for (int k = 0; k < T;) {
-    if (solved[k]) {
-      ++k;
-      continue;
-    }
-    int end = k;
-    while (end < T && !solved[end]) ++end;
-    const int before = k - 1, after = end;  // solved neighbours (may be out of range)
-    if (before < 0 && after >= T) return;   // nothing solved: nothing to hold the fill
+  forEachUnsolvedRun(solved, [&](int begin, int end) {
+    const int before = begin - 1, after = end;  // solved neighbours (may be out of range)
+    if (before < 0 && after >= T) return;       // nothing solved: nothing to hold the fill
     if (before < 0 || after >= T) {
       // One-ended: dead reckoning from the solved side, turned by that side's stretch heading.
       const int anchor = before < 0 ? after : before;
       const StretchFit fit =
           fitStretch(path, solved, out, heading_offset_rad, anchor, before < 0 ? +1 : -1, stretch_us);
       const Eigen::Matrix2d r = rotation(fit.offset_rad);
-      for (int i = k; i < end; ++i) {
+      for (int i = begin; i < end; ++i) {
         const Eigen::Vector2d xy = solvedAt(out, anchor) + r * (deadReckoned(path, i) - deadReckoned(path, anchor));
         out[i].x_m = xy.x();
         out[i].y_m = xy.y();
         out[i].heading_rad = path.heading_rad[i] + fit.offset_rad;
       }
-      k = end;
-      continue;
+      return;
     }
     const StretchFit fit_a = fitStretch(path, solved, out, heading_offset_rad, before, -1, stretch_us);
     const StretchFit fit_b = fitStretch(path, solved, out, heading_offset_rad, after, +1, stretch_us);
@@ -245,8 +253,7 @@ void fillUnsolvedPoses(const OdometryPath& path, const std::vector<bool>& solved
       out[i].y_m = p.y();
       out[i].heading_rad = path.heading_rad[i] + theta(0) + theta(1) * f;
     }
-    k = end;
-  }
+  });
 }
 
 }  // namespace roam::spectral
