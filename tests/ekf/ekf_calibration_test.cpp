@@ -189,7 +189,7 @@ TEST(EkfCalibration, NlosThirtyPercentWithDriftingOdometryInitialisesFromThePose
   // with the consensus sightings every beacon enters: measured 1.27 / 0.94 m (seeds 202 / 331;
   // seed 332 still initialises none, see the README); since round 5's outlier-robust
   // initialisation 1.15 / 2.57 m (331: its first beacons enter from poses 3-7 m off, the frame
-  // rotated; the sweep seeds 301-306 / 401-410 went 1.68 / 5.17 -> 1.28 / 3.04 m on average).
+  // rotated; the sweep seeds 301-306 / 401-410 went 1.68 / 5.17 -> 1.28 / 3.03 m on average).
   // Bound: 3.0 m (the dead reckoning is 21 m), every beacon, b within 1e-3.
   for (const uint64_t seed : {202, 331}) {
     sim::SimConfig world = sim::nlos30LawnMowerWorld(seed, 3000);
