@@ -401,8 +401,17 @@ void EkfSlam::initialiseReadyBeacons() {
       plain_bias.heading_rate_bias_sigma_rad_s = 0.0;
       MultilaterationResult solve = estimation::multilaterate(used, plain_bias, init_config_);
       const bool first_ok = solve.status == MultilaterationResult::Status::kReady && biasConsistent(solve, bias);
-      if (!first_ok) solve = trimmedSolve(it->second, bias, &used);
-      if (!first_ok && bias.heading_rate_bias_sigma_rad_s > 0.0) {
+      // The trimmed solve costs up to 6 solves over every sighting: with a full buffer (200) it
+      // is re-tried once the buffer has grown by a sixteenth since the last try (a run that
+      // initialises no beacon: 11.9 s of CPU against 2.1 s before, re-trying at every range).
+      const size_t buffered = it->second.size();
+      auto& last_try = last_trim_size_[id];
+      const bool trim = !first_ok && (buffered < last_try || buffered >= last_try + std::max<size_t>(1, buffered / 16));
+      if (trim) {
+        last_try = buffered;
+        solve = trimmedSolve(it->second, bias, &used);
+      }
+      if (trim && bias.heading_rate_bias_sigma_rad_s > 0.0) {
         // The bias error is kept only where the ranges ask for it: if the same sightings fit as
         // well without it (chi2 within the 1-dof gate), the plain solve is used. Plaza's dead-
         // reckoned path drifts as a random walk, which a constant bias does not model.

@@ -143,6 +143,7 @@ class EkfSlam : public Estimator {
   // Each pending beacon's last batch-solve status (STATUS: why it is not initialised).
   std::map<int, MultilaterationResult::Status> init_status_;
   std::map<int, MultilaterationResult> last_solve_;  // each pending beacon's previous solve
+  std::map<int, size_t> last_trim_size_;             // its buffer's size at the last trimmed solve
   int64_t replays_ = 0;
   // Buffered ranges (beacon, time) its batch solution did not explain: not re-applied.
   std::set<std::pair<int, int64_t>> excluded_ranges_;
