@@ -8,9 +8,10 @@ namespace roam {
 namespace estimation {
 namespace {
 
-// Unknowns: (mx, my) or (mx, my, scale, offset): at most 4, so no heap allocation.
-using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 4, 1>;
-using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4>;
+// Unknowns: (mx, my), (scale, offset) if estimated, then db if solved for: at most 5, so no heap
+// allocation.
+using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 5, 1>;
+using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 5, 5>;
 
 struct Fit {
   Vector theta;
@@ -21,21 +22,23 @@ struct Fit {
 class Problem {
  public:
   Problem(const std::vector<Sighting>& s, const std::vector<double>& weight, const RangeBiasPrior& bias)
-      : s_(s), weight_(weight), bias_(bias), n_(bias.estimated() ? 4 : 2) {}
+      : s_(s), weight_(weight), bias_(bias), with_bias_(bias.estimated()),
+        with_db_(bias.heading_rate_bias_sigma_rad_s > 0.0), n_(2 + (with_bias_ ? 2 : 0) + (with_db_ ? 1 : 0)) {}
 
   int size() const { return n_; }
   Vector start(const Eigen::Vector2d& m) const {
-    Vector theta(n_);
+    Vector theta = Vector::Zero(n_);
     theta.head<2>() = m;
-    if (n_ == 4) theta.tail<2>() << bias_.scale, bias_.offset_m;
+    if (with_bias_) theta.segment<2>(2) << bias_.scale, bias_.offset_m;
     return theta;
   }
-  double scale(const Vector& t) const { return n_ == 4 ? t(2) : bias_.scale; }
-  double offset(const Vector& t) const { return n_ == 4 ? t(3) : bias_.offset_m; }
+  double scale(const Vector& t) const { return with_bias_ ? t(2) : bias_.scale; }
+  double offset(const Vector& t) const { return with_bias_ ? t(3) : bias_.offset_m; }
+  double db(const Vector& t) const { return with_db_ ? t(n_ - 1) : 0.0; }
 
   // chi2 and, if asked, J' W J and J' W r (r = measured - predicted), priors included.
   double evaluate(const Vector& t, Matrix* JtWJ, Vector* JtWr) const {
-    const double scale = this->scale(t), offset = this->offset(t);
+    const double scale = this->scale(t), offset = this->offset(t), db = this->db(t);
     double chi2 = 0.0;
     if (JtWJ) {
       JtWJ->setZero(n_, n_);
@@ -43,17 +46,26 @@ class Problem {
     }
     Vector J(n_);
     for (size_t i = 0; i < s_.size(); ++i) {
-      const Eigen::Vector2d delta(t(0) - s_[i].x_m, t(1) - s_[i].y_m);
+      const Eigen::Vector2d delta(t(0) - s_[i].x_m - s_[i].dx_db * db, t(1) - s_[i].y_m - s_[i].dy_db * db);
       const double distance_m = std::max(delta.norm(), 1e-9);
       const double r = s_[i].range_m - scale * distance_m - offset;
       chi2 += weight_[i] * r * r;
       if (!JtWJ) continue;
       J.head<2>() = scale * delta / distance_m;
-      if (n_ == 4) J.tail<2>() << distance_m, 1.0;
+      if (with_bias_) J.segment<2>(2) << distance_m, 1.0;
+      if (with_db_) J(n_ - 1) = -scale * (delta.x() * s_[i].dx_db + delta.y() * s_[i].dy_db) / distance_m;
       *JtWJ += weight_[i] * J * J.transpose();
       *JtWr += weight_[i] * J * r;
     }
-    if (n_ == 4) {
+    if (with_db_) {
+      const double wb = 1.0 / (bias_.heading_rate_bias_sigma_rad_s * bias_.heading_rate_bias_sigma_rad_s);
+      chi2 += wb * db * db;
+      if (JtWJ) {
+        (*JtWJ)(n_ - 1, n_ - 1) += wb;
+        (*JtWr)(n_ - 1) -= wb * db;
+      }
+    }
+    if (with_bias_) {
       const double ws = 1.0 / (bias_.scale_sigma * bias_.scale_sigma);
       const double wo = 1.0 / (bias_.offset_sigma_m * bias_.offset_sigma_m);
       chi2 += ws * std::pow(t(2) - bias_.scale, 2) + wo * std::pow(t(3) - bias_.offset_m, 2);
@@ -98,6 +110,7 @@ class Problem {
   const std::vector<Sighting>& s_;
   const std::vector<double>& weight_;
   RangeBiasPrior bias_;
+  bool with_bias_, with_db_;
   int n_;
 };
 
@@ -173,6 +186,7 @@ MultilaterationResult multilaterate(const std::vector<Sighting>& s, const RangeB
   result.cov_m2 = inflation * 0.5 * (cov.topLeftCorner<2, 2>() + cov.topLeftCorner<2, 2>().transpose());
   result.scale = problem.scale(best.theta);
   result.offset_m = problem.offset(best.theta);
+  result.heading_rate_bias_rad_s = problem.db(best.theta);
   result.chi2 = best.chi2;
   const double sigma_max_m = std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(result.cov_m2).eigenvalues()(1));
 
@@ -186,8 +200,10 @@ MultilaterationResult multilaterate(const std::vector<Sighting>& s, const RangeB
   }
   // The angle the sightings span seen from the beacon: 2 pi minus the largest gap between bearings.
   std::vector<double> bearing_rad;
+  const double db = result.heading_rate_bias_rad_s;
   for (const Sighting& sighting : s)
-    bearing_rad.push_back(std::atan2(sighting.y_m - result.world_m.y(), sighting.x_m - result.world_m.x()));
+    bearing_rad.push_back(std::atan2(sighting.y_m + sighting.dy_db * db - result.world_m.y(),
+                                     sighting.x_m + sighting.dx_db * db - result.world_m.x()));
   std::sort(bearing_rad.begin(), bearing_rad.end());
   double largest_gap_rad = 2.0 * M_PI - (bearing_rad.back() - bearing_rad.front());
   for (size_t i = 1; i < bearing_rad.size(); ++i)

@@ -76,6 +76,7 @@ class EkfSlam : public Estimator {
     int64_t first_utime;  // the step the beacon entered at (its first buffered range)
     int num_ranges;
     MultilaterationResult solve;
+    std::vector<Sighting> sightings;  // the ones the solve used
   };
   const std::vector<Initialisation>& initialisations() const { return initialisations_; }
 
@@ -103,7 +104,11 @@ class EkfSlam : public Estimator {
   void handleRange(const Range& range, int64_t step_index, bool live);
   void initialiseReadyBeacons();
   std::vector<Sighting> consensusSightings(const std::vector<Sighting>& sightings, const RangeBiasPrior& bias) const;
-  void rollbackAndInsert(int id, const MultilaterationResult& solve);
+  static constexpr int kTrimIterations = 5;
+  MultilaterationResult trimmedSolve(const std::vector<Sighting>& sightings, const RangeBiasPrior& bias,
+                                     std::vector<Sighting>* used) const;
+  bool biasConsistent(const MultilaterationResult& solve, const RangeBiasPrior& bias) const;
+  void rollbackAndInsert(int id, const MultilaterationResult& solve, std::vector<Sighting> used);
   void replayFrom(int64_t offset, int64_t first_step);
   void rerunWithCalibration();
   bool confirmStandstill(const Odometry& odometry, double dt_s);
@@ -137,7 +142,12 @@ class EkfSlam : public Estimator {
   std::vector<Initialisation> initialisations_;
   // Each pending beacon's last batch-solve status (STATUS: why it is not initialised).
   std::map<int, MultilaterationResult::Status> init_status_;
+  std::map<int, MultilaterationResult> last_solve_;  // each pending beacon's previous solve
+  std::map<int, size_t> last_trim_size_;             // its buffer's size at the last trimmed solve
   int64_t replays_ = 0;
+  // Buffered ranges (beacon, time) its batch solution did not explain: not re-applied.
+  std::set<std::pair<int, int64_t>> excluded_ranges_;
+  int64_t excluded_ranges_total_ = 0;
   int64_t gated_ = 0;
   int gated_in_row_ = 0;              // ranges to known beacons gated since the last applied one
   double min_gated_innovation_m_ = 0.0;

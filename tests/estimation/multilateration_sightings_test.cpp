@@ -71,6 +71,36 @@ TEST(Multilateration, EstimatesTheRangeBiasWithItsPrior) {
   EXPECT_GT(pulled.cov_m2.trace(), fixed.cov_m2.trace());
 }
 
+TEST(Multilateration, SolvesTheHeadingRateBiasThatCurlsThePath) {
+  // The recorded path is the true one turned about the start by db t (a gyro bias error db after
+  // t seconds, 1 s per metre): position = truth - (dx_db, dy_db) db with (dx_db, dy_db) the
+  // derivative of that turn, t (-y, x) (linear in db, as the EKF's regression is). With the
+  // bias error solved for (a prior of 1 rad/s, which barely pulls) exact ranges give the beacon
+  // and db; without it the fit is far outside the noise and the beacon is off.
+  const Eigen::Vector2d beacon(3.0, 7.0);
+  const double db_rad_s = 0.01;
+  const std::vector<Eigen::Vector2d> truth = lPath();
+  std::vector<Sighting> sightings = sightingsOf(beacon, truth);
+  for (size_t i = 0; i < sightings.size(); ++i) {
+    const double t_s = static_cast<double>(i);
+    sightings[i].dx_db = -t_s * truth[i].y();
+    sightings[i].dy_db = t_s * truth[i].x();
+    sightings[i].x_m -= sightings[i].dx_db * db_rad_s;
+    sightings[i].y_m -= sightings[i].dy_db * db_rad_s;
+  }
+  RangeBiasPrior with_db;
+  with_db.heading_rate_bias_sigma_rad_s = 1.0;
+  const MultilaterationResult solved = multilaterate(sightings, with_db, MultilaterationConfig{});
+  EXPECT_NEAR(solved.world_m.x(), beacon.x(), 1e-3);
+  EXPECT_NEAR(solved.world_m.y(), beacon.y(), 1e-3);
+  EXPECT_NEAR(solved.heading_rate_bias_rad_s, db_rad_s, 1e-5);
+  EXPECT_LT(solved.chi2, 1e-3);
+  const MultilaterationResult plain = multilaterate(sightings, RangeBiasPrior{}, MultilaterationConfig{});
+  EXPECT_EQ(plain.heading_rate_bias_rad_s, 0.0);
+  EXPECT_GT((plain.world_m - beacon).norm(), 0.5);
+  EXPECT_GT(plain.chi2, 5.0);  // measured 7.7 (sigma 0.3 m), against < 1e-3
+}
+
 TEST(Multilateration, StraightPathIsAmbiguous) {
   // Sightings on the x axis: (5, 4) and its mirror (5, -4) fit every range exactly.
   std::vector<Eigen::Vector2d> line;

@@ -89,6 +89,9 @@ struct Sighting {
   double position_var_m2 = 0.0;
   double range_m = 0.0;
   double sigma_m = 0.0;
+  // How the position moves with a heading-rate bias error db (m per rad/s; the filter's
+  // regression of the position on its bias state): the solve may estimate db (RangeBiasPrior).
+  double dx_db = 0.0, dy_db = 0.0;
 };
 
 struct MultilaterationConfig {
@@ -103,6 +106,9 @@ struct MultilaterationConfig {
 struct RangeBiasPrior {
   double scale = 1.0, scale_sigma = 0.0;
   double offset_m = 0.0, offset_sigma_m = 0.0;
+  // With > 0: the odometry's heading-rate bias error db ~ N(0, sigma^2) is solved for too, each
+  // sighting's position taken as (x + dx_db db, y + dy_db db) (a path curled by a gyro bias).
+  double heading_rate_bias_sigma_rad_s = 0.0;
   bool estimated() const { return scale_sigma > 0.0 && offset_sigma_m > 0.0; }
 };
 
@@ -112,6 +118,7 @@ struct MultilaterationResult {
   Eigen::Vector2d world_m = Eigen::Vector2d::Zero();
   Eigen::Matrix2d cov_m2 = Eigen::Matrix2d::Zero();  // marginal (the bias uncertainty included)
   double scale = 1.0, offset_m = 0.0;                 // the bias at the solution
+  double heading_rate_bias_rad_s = 0.0;               // db at the solution (0 unless solved for)
   double chi2 = 0.0;        // cost of the best minimum
   double rival_chi2 = 0.0;  // cost of the best distinct other minimum (infinity if none)
   double angle_rad = 0.0;   // angle the sightings span, seen from the solution
