@@ -58,8 +58,8 @@ struct SpectralBatchConfig {
   // noise model holds; see the README for where it does not). Without estimate_odometry_noise,
   // `pinned` turns the final solution so that pose 0 has the start heading (rotation about pose 0
   // is an exact symmetry of the cost, so this picks the gauge and costs one warm solve): 30 %
-  // NLOS seeds 301-310 mean 0.50 m against 0.72 m with `window`, but Plaza 1 1.87 m (its pose-0
-  // heading is solved through a 60 s standing start).
+  // NLOS seeds 301-310 mean 0.50 m against 0.72 m with `window`, 401-410 0.64 against 0.62, and
+  // Plaza 1 1.87 m (its odometry is ~0.1 rad off over the first 2-20 m).
   Gauge gauge = Gauge::kWindow;
 
   // Final solve with no beacon fixed: the solution must explain at least this fraction of the
