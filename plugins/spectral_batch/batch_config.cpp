@@ -49,7 +49,7 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
   o.add("min_odometry_noise_scale", &c->min_odometry_noise_scale,
         "estimate_odometry_noise: the narrowest odometry noise, as a fraction of the configured").min(0.0, false).max(1.0);
   o.add("gauge", &c->gauge, {{"window", C::Gauge::kWindow}, {"pinned", C::Gauge::kPinned}},
-        "anchor = start_pose: rotation gauge: the gauge_align_m window | pose 0 pinned (with estimate_odometry_noise)");
+        "anchor = start_pose: rotation gauge: the gauge_align_m window | pose 0 held at the start heading");
   o.add("range_offset_sigma_m", &c->range_offset_sigma_m, "prior sigma of the shared range offset (0: none)").min(0.0);
   o.add("start_pose_sigma_m", &c->start_pose_sigma_m, "anchor = beacons: prior sigma of pose 0 at INITIAL_POSE (0: none)").min(0.0);
   o.add("start_heading_sigma_rad", &c->start_heading_sigma_rad, "anchor = beacons: prior heading sigma of pose 0").min(0.0, false);

@@ -80,6 +80,9 @@ ceres::LinearSolverType linearSolver(SpectralBatchConfig::LinearSolver solver) {
   throw ConfigError("linear_solver", "not a linear solver");  // unreachable after checkConfig
 }
 
+// A range is an inlier within this many of its sigmas of the solution (Summary::range_inliers).
+constexpr double kInlierWindowSigmas = 4.0;
+
 // Probes of the Hutchinson trace estimate: the variance of one probe of a group's trace is at most
 // twice the group's redundancy (a block of a projector), so 32 probes give ~sqrt(2 r / 32): 2.5
 // on a redundancy of 100, 2.5 %.
@@ -198,11 +201,12 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     ceres_problem.SetParameterBlockConstant(odometry_calibration);
   // The metric of the map: surveyed beacons, or else the odometry distances against the range
   // scale. With no beacon fixed and the range scale estimated, the distance scale, the range scale
-  // and the map's size trade off freely (heavy outliers then shrink the map to a point): the
-  // distance scale is held at 1 there and the range scale carries the relative scale.
+  // and the map's size trade off freely (heavy outliers then shrink the map to a point): their
+  // priors share the relative scale out where the range scale has one (range_scale_sigma),
+  // else the distance scale is held at 1 and the range scale carries it.
   bool any_beacon_fixed = false;
   for (bool fixed : problem.beacon_fixed) any_beacon_fixed = any_beacon_fixed || fixed;
-  if (calibrate_odometry && !any_beacon_fixed && config.estimate_range_scale) {
+  if (calibrate_odometry && !any_beacon_fixed && config.estimate_range_scale && !(config.range_scale_sigma > 0.0)) {
     state->odometry_calibration[0] = 1.0;
     ceres_problem.SetManifold(odometry_calibration, new ceres::SubsetManifold(2, {0}));
   }
@@ -337,14 +341,17 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     if (!summary.usable) break;
   }
   // The split of the final cost: ranges (with the final loss) and the rest.
-  double final_scale_used = robust ? final_scale : 0.0;
+  // Inliers: within kInlierWindowSigmas of the range's sigma, whatever the loss (the window of
+  // 3 huber scales, 4.0 sigmas, that min_inlier_fraction's figures were measured with): a
+  // Gaussian range falls outside it once in ~16000; a window in loss scales would widen with a
+  // wider loss (3 cauchy scales are 7.2 sigmas) and call a wrong basin's outliers inliers.
   for (ceres::ResidualBlockId id : range_blocks) {
     double cost = 0.0, residual = 0.0;
     ceres_problem.EvaluateResidualBlock(id, true, &cost, &residual, nullptr);
     double raw_cost = 0.0;
     ceres_problem.EvaluateResidualBlock(id, false, &raw_cost, &residual, nullptr);  // the residual itself
     summary.range_cost += cost;
-    if (!robust || std::abs(residual) <= 3.0 * final_scale_used) {
+    if (!robust || std::abs(residual) <= kInlierWindowSigmas) {
       ++summary.range_inliers;
       summary.range_inlier_squares += residual * residual;
     }

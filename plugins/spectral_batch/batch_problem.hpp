@@ -75,7 +75,7 @@ struct Summary {
   bool usable = false;          // Ceres' IsSolutionUsable() on the last stage
   bool converged = false;       // the last stage stopped on a tolerance (not on max_iterations)
   // At the solution, with the final loss: the odometry part (1/2 sum |r|^2, priors included) and
-  // the range part (1/2 sum rho), and the ranges whose whitened residual is within 3 loss scales.
+  // the range part (1/2 sum rho), and the ranges whose whitened residual is within 4 sigmas.
   double odometry_cost = 0.0;
   double range_cost = 0.0;
   int range_inliers = 0;

@@ -523,6 +523,23 @@ void SpectralBatchSlam::refineOdometryNoise(Candidate* candidate) {
   setDiagnostic("odometry_heading_noise_scale", problem.odometry_sigma_factor * problem.odometry_heading_sigma_factor);
 }
 
+void SpectralBatchSlam::pinStartHeading(Candidate* candidate) {
+  spectral_batch::Problem& problem = candidate->problem;
+  spectral_batch::State& state = candidate->state;
+  if (state.poses.empty()) return;
+  // Rotation about pose 0 changes no residual (no beacon fixed): holding the start heading only
+  // picks the gauge, so the cost is the same and one warm solve settles it.
+  if (problem.fix_first_heading) return;
+  rotateAboutStart(&state, wrapAngle(start_pose_[2] - state.poses[0][2]));
+  problem.fix_first_heading = true;
+  spectral_batch::State trial_state = state;
+  spectral_batch::Summary trial = spectral_batch::solve(config_, problem, &trial_state);
+  if (!trial.usable) return;
+  trial.iterations += candidate->summary.iterations;
+  state = std::move(trial_state);
+  candidate->summary = trial;
+}
+
 double SpectralBatchSlam::costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const {
   spectral_batch::Problem problem = candidate.problem;
   spectral_batch::State state = candidate.state;
@@ -612,6 +629,8 @@ void SpectralBatchSlam::solveNow(bool final) {
   if (final && config_.anchor == SpectralBatchConfig::Anchor::kStartPose && best.summary.usable) {
     if (config_.gauge == SpectralBatchConfig::Gauge::kWindow && config_.gauge_align_m > 0.0)
       alignRotationToOdometry(&best.state);
+    else if (config_.gauge == SpectralBatchConfig::Gauge::kPinned && !config_.estimate_odometry_noise)
+      pinStartHeading(&best);
   }
   lap("noise and gauge");
   if (config_.verbose) std::cerr << "spectral_batch: thread CPU:" << times.str() << "\n";

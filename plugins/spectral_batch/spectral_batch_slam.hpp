@@ -106,6 +106,9 @@ class SpectralBatchSlam : public Estimator {
   // pin_start_heading (anchor = start_pose) pose 0 is first turned onto the start heading (a
   // gauge move) and held there.
   void refineOdometryNoise(Candidate* candidate);
+  // gauge = pinned without estimate_odometry_noise: turn the solution so that pose 0 has the
+  // start heading and re-solve with it held (a dead-reckoning seed is solved so already).
+  void pinStartHeading(Candidate* candidate);
   void solveNow(bool final);
   // The final solve is not trusted (why): fail (fallback_deadreckoning = false), or publish dead
   // reckoning (alone: its poses and multilaterated beacons) with the reason in STATUS.
