@@ -10,6 +10,28 @@
 
 namespace roam {
 namespace ekf {
+namespace {
+
+// The rejection reason for the ranges of a beacon that never entered the state, naming the config
+// key of the check its last initialisation solve failed.
+std::string neverInitialisedReason(MultilaterationResult::Status last) {
+  switch (last) {
+    case MultilaterationResult::Status::kTooFew:
+      return "beacon never initialised: too few usable ranges (init_min_ranges)";
+    case MultilaterationResult::Status::kShortBaseline:
+      return "beacon never initialised: its sightings span too short a baseline (init_min_baseline_m)";
+    case MultilaterationResult::Status::kNarrowAngle:
+      return "beacon never initialised: its sightings span too narrow an angle (init_min_angle_rad)";
+    case MultilaterationResult::Status::kAmbiguous:
+      return "beacon never initialised: its position and its mirror fit alike (init_mirror_chi2)";
+    case MultilaterationResult::Status::kPoorlyConstrained:
+      return "beacon never initialised: its solve stayed too uncertain (init_max_sigma_m)";
+    default:
+      return "beacon never initialised: no position explains most of its ranges";
+  }
+}
+
+}  // namespace
 
 EkfSlam::EkfSlam(const EkfConfig& config) : config_(config) {
   checkConfig(config_, addEkfOptions);
@@ -340,7 +362,7 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
   buffer.push_back(sighting);
   if (static_cast<int>(buffer.size()) > config_.init_max_ranges) buffer.erase(buffer.begin());
   touched_.insert(range.beacon_id);
-  if (live) acceptRange();
+  if (live) ++pending_live_ranges_[range.beacon_id];
 }
 
 void EkfSlam::adaptRangeNoise(double nis) {
@@ -541,6 +563,10 @@ void EkfSlam::rollbackAndInsert(int id, const MultilaterationResult& solve, std:
   for (const Sighting& sighting : pending_.at(id))
     if (!kept.count(sighting.utime) && excluded_ranges_.insert({id, sighting.utime}).second) ++excluded_ranges_total_;
   pending_.erase(id);
+  if (auto counted = pending_live_ranges_.find(id); counted != pending_live_ranges_.end()) {
+    for (int64_t i = 0; i < counted->second; ++i) acceptRange();
+    pending_live_ranges_.erase(counted);
+  }
   auto entry = history_.begin() + offset;
   entry->inserts.push_back({id, solve.world_m, config_.init_prior_inflation * solve.cov_m2});
   initialisations_.back().first_utime = entry->before_utime;
@@ -720,6 +746,15 @@ void EkfSlam::finish() {
     }
   }
   waiting_.clear();
+  // A beacon that never entered the state used none of its ranges: they are rejected under the
+  // check its last solve failed, so the run's warning names the key to look at.
+  for (const auto& [id, count] : pending_live_ranges_) {
+    auto found = init_status_.find(id);
+    const std::string reason = neverInitialisedReason(
+        found == init_status_.end() ? MultilaterationResult::Status::kTooFew : found->second);
+    for (int64_t i = 0; i < count; ++i) rejectRange(reason);
+  }
+  pending_live_ranges_.clear();
   if (started_) emitMap(currentMap());
   map_dirty_ = false;
   publishDiagnostics();

@@ -135,6 +135,9 @@ class EkfSlam : public Estimator {
   std::vector<Range> waiting_;  // ranges for the next odometry step
   std::deque<Step> history_;    // steps since the first sighting of a pending beacon
   std::map<int, std::vector<Sighting>> pending_;
+  // Live ranges to each beacon not yet initialised: counted accepted when it enters the state,
+  // rejected at the end (with the check that kept it out) if it never does.
+  std::map<int, int64_t> pending_live_ranges_;
   std::set<int> touched_;  // pending beacons with new sightings since the last check
   Map surveyed_;
   Path path_;

@@ -235,6 +235,10 @@ TEST(EkfCalibration, NlosThirtyPercentStartPoseInitialisesOnTheInliers) {
     EXPECT_LT(error_m, 1.0) << "seed " << seed;
     EXPECT_EQ(ekf.filter().beacons().size(), 6u) << "seed " << seed;
     EXPECT_GT(ekf.diagnostics().at("ranges_excluded_at_initialisation"), 0.0) << "seed " << seed;
+    // Every beacon entered: each range is counted once, accepted or rejected, none as unused.
+    EXPECT_EQ(ekf.rangesAccepted() + ekf.rangesRejected(), static_cast<int64_t>(run.ranges.size())) << "seed " << seed;
+    for (const auto& [reason, count] : ekf.rejections())
+      EXPECT_EQ(reason.find("never initialised"), std::string::npos) << reason << " x " << count;
   }
 }
 
@@ -258,6 +262,15 @@ TEST(EkfCalibration, AuvStartPoseThatInitialisesNoBeaconSaysWhyInStatus) {
   EXPECT_EQ(status.at("beacons_pending_too_few_ranges"), 0.0);
   EXPECT_EQ(status.at("beacons_pending_poorly_constrained"), 2.0);
   EXPECT_NEAR(meanError(ekf.path(), run.ground_truth), deadReckoningError(run), 1e-9);
+  // No range was used, and each is rejected under its beacon's failed check, whose reason names
+  // the config key (roam-run's end-of-run warning prints "look at key init_max_sigma_m").
+  EXPECT_EQ(ekf.rangesAccepted(), 0);
+  EXPECT_EQ(ekf.rangesRejected(), static_cast<int64_t>(run.ranges.size()));
+  int64_t never_initialised = 0;
+  for (const auto& [reason, count] : ekf.rejections())
+    if (reason.find("beacon never initialised") != std::string::npos) never_initialised += count;
+  EXPECT_EQ(never_initialised, static_cast<int64_t>(run.ranges.size()));
+  EXPECT_GT(ekf.rejections().count("range: beacon never initialised: its solve stayed too uncertain (init_max_sigma_m)"), 0u);
 }
 
 }  // namespace
