@@ -7,6 +7,7 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "gap_fill.hpp"
 #include "odometry_calibration.hpp"
@@ -574,6 +575,7 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
   // that pass, the one with the lowest median residual is kept.
   std::optional<SpectralSolution> best;
   CarriedCalibration carry;
+  std::string upgrade_failure;  // the first attempt's that was not the self-check's
   for (int attempt = 0;; ++attempt) {
     const bool last = attempt >= config.window_retries;
     try {
@@ -592,10 +594,16 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
                               solution.median_residual_m <= ratio_limit * reference_m;
       if (!best || solution.median_residual_m < best->median_residual_m) best = std::move(solution);
       if (consistent || last) return *best;
-    } catch (const WindowsDoNotFit& too_few) {
+    } catch (const InsufficientData& too_few) {
+      // The self-check failed (WindowsDoNotFit), or the learned states did not fix the start-pose
+      // upgrade: windows that outliers or drift bent can leave no paraboloid through them, and
+      // a longer window may. A geometry that cannot fix it (one circle) fails at every length;
+      // if no length solves, that reason is the one given (it says what to change).
+      if (!dynamic_cast<const WindowsDoNotFit*>(&too_few) && upgrade_failure.empty())
+        upgrade_failure = too_few.what();
       if (last) {
         if (best) return *best;
-        throw InsufficientData(too_few.what());
+        throw InsufficientData(upgrade_failure.empty() ? too_few.what() : upgrade_failure);
       }
     }
     config.window_s *= 2.0;
