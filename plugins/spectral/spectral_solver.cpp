@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -257,13 +256,16 @@ double medianOf(std::vector<double> values) {
   return values[mid];
 }
 
-// Median |range - scale_n |p(t) - m| - offset_n| of the solution over every range: p(t) linear
-// between the solved poses, m the surveyed beacon (anchor = beacons) or the learned one.
-double globalMedianResidual(const SpectralProblem& problem, const SpectralConfig& config,
-                            const Path& trajectory, const Eigen::Matrix2Xd& learned_beacons) {
+// Per range, in problem.ranges order: range - scale_n |p(t) - m| - offset_n for the solution, p(t)
+// linear between the solved poses, m the surveyed beacon (anchor = beacons) or the learned one;
+// NaN for a range beyond the trajectory (online: a prefix of the path).
+std::vector<double> rangeResiduals(const SpectralProblem& problem, const SpectralConfig& config,
+                                   const Path& trajectory, const Eigen::Matrix2Xd& learned_beacons) {
   const int N = static_cast<int>(problem.beacon_ids.size());
   std::vector<std::vector<double>> range_m(N), distance_m(N);
-  for (const RangeSample& r : problem.ranges) {
+  std::vector<std::vector<size_t>> index(N);
+  for (size_t i = 0; i < problem.ranges.size(); ++i) {
+    const RangeSample& r = problem.ranges[i];
     const int upper = problem.path.lowerBound(r.utime);
     if (upper >= static_cast<int>(trajectory.size())) continue;  // online: a prefix of the path
     const int lower = std::max(0, upper - (problem.path.utime[upper] == r.utime ? 0 : 1));
@@ -275,10 +277,11 @@ double globalMedianResidual(const SpectralProblem& problem, const SpectralConfig
     if (config.anchor == SpectralAnchor::kBeacons && problem.surveyed[r.beacon]) m = *problem.surveyed[r.beacon];
     range_m[r.beacon].push_back(r.range_m);
     distance_m[r.beacon].push_back((p - m).norm());
+    index[r.beacon].push_back(i);
   }
   // Less each beacon's range scale and offset (which the spectral model absorbs), both robust:
   // scale = median(range / distance), offset = median(range - scale distance).
-  std::vector<double> residual;
+  std::vector<double> residual(problem.ranges.size(), std::numeric_limits<double>::quiet_NaN());
   for (int n = 0; n < N; ++n) {
     std::vector<double> ratio, error;
     for (size_t i = 0; i < range_m[n].size(); ++i)
@@ -286,8 +289,17 @@ double globalMedianResidual(const SpectralProblem& problem, const SpectralConfig
     const double scale = ratio.empty() ? 1.0 : medianOf(ratio);
     for (size_t i = 0; i < range_m[n].size(); ++i) error.push_back(range_m[n][i] - scale * distance_m[n][i]);
     const double offset = medianOf(error);
-    for (double e : error) residual.push_back(std::abs(e - offset));
+    for (size_t i = 0; i < error.size(); ++i) residual[index[n][i]] = error[i] - offset;
   }
+  return residual;
+}
+
+// Median |range - scale_n |p(t) - m| - offset_n| of the solution over every range (rangeResiduals).
+double globalMedianResidual(const SpectralProblem& problem, const SpectralConfig& config,
+                            const Path& trajectory, const Eigen::Matrix2Xd& learned_beacons) {
+  std::vector<double> residual;
+  for (double e : rangeResiduals(problem, config, trajectory, learned_beacons))
+    if (!std::isnan(e)) residual.push_back(std::abs(e));
   return medianOf(residual);
 }
 
@@ -563,7 +575,10 @@ double solutionMedianResidual(const SpectralProblem& problem, const SpectralConf
   return globalMedianResidual(problem, config, trajectory, learned_beacons);
 }
 
-SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& given_config) {
+namespace {
+
+// Steps 1-4 with the window retries.
+SpectralSolution solveWithRetries(const SpectralProblem& problem, const SpectralConfig& given_config) {
   const int N = static_cast<int>(problem.beacon_ids.size());
   const int T = problem.path.size();
   if (T < 2) throw InsufficientData("spectral: no odometry");
@@ -608,6 +623,48 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
     }
     config.window_s *= 2.0;
   }
+}
+
+}  // namespace
+
+SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config) {
+  SpectralSolution solution = solveWithRetries(problem, config);
+  // Outliers grew the window (the retries): long windows outvote them, but over a long window dead
+  // reckoning is no longer a rigid motion of the truth (its heading random-walks), so the learned
+  // path bends. The long-window solution explains the inliers to about its median residual, so
+  // ranges far off it (beyond outlier_drop_sigmas robust sigmas of the residuals, and beyond that
+  // many range_sigma_m) are dropped, and the run is solved again from the base window. The second
+  // solution is kept if it explains all the ranges (outliers included: the median is the inliers')
+  // at least as well.
+  if (!(config.outlier_drop_sigmas > 0.0) || !(solution.window_s > effectiveWindowSeconds(problem, config)))
+    return solution;
+  const int N = static_cast<int>(problem.beacon_ids.size());
+  Eigen::Matrix2Xd learned(2, N);
+  for (int n = 0; n < N; ++n) learned.col(n) << solution.beacons[n].x_m, solution.beacons[n].y_m;
+  const std::vector<double> residual = rangeResiduals(problem, config, solution.trajectory, learned);
+  std::vector<double> magnitude;
+  for (double e : residual)
+    if (!std::isnan(e)) magnitude.push_back(std::abs(e));
+  const double cut_m = config.outlier_drop_sigmas * std::max(1.4826 * medianOf(magnitude), config.range_sigma_m);
+  SpectralProblem clean = problem;
+  clean.ranges.clear();
+  for (size_t i = 0; i < problem.ranges.size(); ++i)
+    if (!(std::abs(residual[i]) > cut_m)) clean.ranges.push_back(problem.ranges[i]);
+  const int dropped = static_cast<int>(problem.ranges.size() - clean.ranges.size());
+  if (dropped == 0) return solution;
+  try {
+    SpectralSolution second = solveWithRetries(clean, config);
+    Eigen::Matrix2Xd learned2(2, N);
+    for (int n = 0; n < N; ++n) learned2.col(n) << second.beacons[n].x_m, second.beacons[n].y_m;
+    const double all_m = globalMedianResidual(problem, config, second.trajectory, learned2);
+    if (all_m <= solution.median_residual_m) {
+      second.median_residual_m = all_m;
+      second.dropped_ranges = dropped;
+      return second;
+    }
+  } catch (const InsufficientData&) {
+  }
+  return solution;
 }
 
 }  // namespace roam::spectral
