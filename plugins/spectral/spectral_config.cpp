@@ -49,6 +49,9 @@ void addSpectralOptions(Options& o, SpectralConfig* c) {
   o.add("consistent_residual_ratio", &c->consistent_residual_ratio,
         "a solution whose median range residual exceeds this x the windows' is solved again with "
         "the window doubled (window_retries); the lowest residual is kept (0: off)").min(0.0);
+  o.add("outlier_drop_sigmas", &c->outlier_drop_sigmas,
+        "after window retries: ranges this many robust sigmas off the solution are left out and "
+        "the run solved again from the base window (0: off)").min(0.0);
 }
 
 }  // namespace roam::spectral

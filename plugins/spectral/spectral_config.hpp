@@ -113,6 +113,12 @@ struct SpectralConfig {
   // ranges at 30 % give ~7 % of them); the solution's residual then sits 1.7-4x the windows'
   // (synthetic 30 % NLOS seeds), while consistent ones sit at 1.0-1.3x. 0: off (first pass taken).
   double consistent_residual_ratio = 1.5;
+  // Only where the retries grew the window (outliers): ranges farther than this many robust sigmas
+  // (1.4826 x the median |residual|, at least range_sigma_m) off the long-window solution are left
+  // out and the run is solved again from the base window; the second solution is kept if it
+  // explains all the ranges at least as well. 3: three sigmas of a Gaussian (0.3 % of inliers).
+  // 0: off.
+  double outlier_drop_sigmas = 3.0;
 };
 
 // Registers every key of the [estimator.*] section with its checks (the shim calls parse()).

@@ -107,6 +107,7 @@ void SpectralSlam::finish() {
   setDiagnostic("median_residual_m", solution_->median_residual_m);
   setDiagnostic("window_median_residual_m", solution_->local_median_residual_m);
   setDiagnostic("window_outlier_fraction", solution_->window_outlier_fraction);
+  setDiagnostic("dropped_ranges", solution_->dropped_ranges);
   setState(EstimatorState::kFinished);
 }
 

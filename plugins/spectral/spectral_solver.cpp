@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "gap_fill.hpp"
 #include "odometry_calibration.hpp"
@@ -255,13 +256,16 @@ double medianOf(std::vector<double> values) {
   return values[mid];
 }
 
-// Median |range - scale_n |p(t) - m| - offset_n| of the solution over every range: p(t) linear
-// between the solved poses, m the surveyed beacon (anchor = beacons) or the learned one.
-double globalMedianResidual(const SpectralProblem& problem, const SpectralConfig& config,
-                            const Path& trajectory, const Eigen::Matrix2Xd& learned_beacons) {
+// Per range, in problem.ranges order: range - scale_n |p(t) - m| - offset_n for the solution, p(t)
+// linear between the solved poses, m the surveyed beacon (anchor = beacons) or the learned one;
+// NaN for a range beyond the trajectory (online: a prefix of the path).
+std::vector<double> rangeResiduals(const SpectralProblem& problem, const SpectralConfig& config,
+                                   const Path& trajectory, const Eigen::Matrix2Xd& learned_beacons) {
   const int N = static_cast<int>(problem.beacon_ids.size());
   std::vector<std::vector<double>> range_m(N), distance_m(N);
-  for (const RangeSample& r : problem.ranges) {
+  std::vector<std::vector<size_t>> index(N);
+  for (size_t i = 0; i < problem.ranges.size(); ++i) {
+    const RangeSample& r = problem.ranges[i];
     const int upper = problem.path.lowerBound(r.utime);
     if (upper >= static_cast<int>(trajectory.size())) continue;  // online: a prefix of the path
     const int lower = std::max(0, upper - (problem.path.utime[upper] == r.utime ? 0 : 1));
@@ -273,10 +277,11 @@ double globalMedianResidual(const SpectralProblem& problem, const SpectralConfig
     if (config.anchor == SpectralAnchor::kBeacons && problem.surveyed[r.beacon]) m = *problem.surveyed[r.beacon];
     range_m[r.beacon].push_back(r.range_m);
     distance_m[r.beacon].push_back((p - m).norm());
+    index[r.beacon].push_back(i);
   }
   // Less each beacon's range scale and offset (which the spectral model absorbs), both robust:
   // scale = median(range / distance), offset = median(range - scale distance).
-  std::vector<double> residual;
+  std::vector<double> residual(problem.ranges.size(), std::numeric_limits<double>::quiet_NaN());
   for (int n = 0; n < N; ++n) {
     std::vector<double> ratio, error;
     for (size_t i = 0; i < range_m[n].size(); ++i)
@@ -284,8 +289,17 @@ double globalMedianResidual(const SpectralProblem& problem, const SpectralConfig
     const double scale = ratio.empty() ? 1.0 : medianOf(ratio);
     for (size_t i = 0; i < range_m[n].size(); ++i) error.push_back(range_m[n][i] - scale * distance_m[n][i]);
     const double offset = medianOf(error);
-    for (double e : error) residual.push_back(std::abs(e - offset));
+    for (size_t i = 0; i < error.size(); ++i) residual[index[n][i]] = error[i] - offset;
   }
+  return residual;
+}
+
+// Median |range - scale_n |p(t) - m| - offset_n| of the solution over every range (rangeResiduals).
+double globalMedianResidual(const SpectralProblem& problem, const SpectralConfig& config,
+                            const Path& trajectory, const Eigen::Matrix2Xd& learned_beacons) {
+  std::vector<double> residual;
+  for (double e : rangeResiduals(problem, config, trajectory, learned_beacons))
+    if (!std::isnan(e)) residual.push_back(std::abs(e));
   return medianOf(residual);
 }
 
@@ -366,64 +380,123 @@ struct WindowsDoNotFit : InsufficientData {
   using InsufficientData::InsufficientData;
 };
 
-// Steps 1-4 and the self-check with config.window_s as the window.
-SpectralSolution solveAtWindow(const SpectralProblem& problem, const SpectralConfig& config) {
-  const int N = static_cast<int>(problem.beacon_ids.size());
-  SolvePass pass = solvePass(problem, config);
-  const OdometryPath* path = &problem.path;
+// The odometry calibration of an attempt whose windows fitted the ranges, handed to the next,
+// longer attempt as its starting point.
+struct CarriedCalibration {
+  bool valid = false;
+  double distance_scale = 1.0;
+  std::vector<double> step_bias_rad_s;
+};
 
-  SpectralSolution solution;
-  SpectralProblem calibrated;
-  if (config.calibrate_odometry) {
-    // Estimate (s, b) against the solution, dead-reckon again with them, solve again: the windows
-    // and the start-pose upgrade then see calibrated motion. A few passes: each pass's solution is
-    // closer to the truth where the windows bent under the drift.
-    constexpr int kCalibrationPasses = 3;
-    calibrated = problem;
-    for (int iteration = 0; iteration < kCalibrationPasses; ++iteration) {
-      // anchor = start_pose: the learned path takes its scale from the odometry, so only b.
-      const bool metric = config.anchor == SpectralAnchor::kBeacons;
-      const CalibrationFit fit =
-          fitOdometryCalibration(calibrated.path, pass.measurements.poses, pass.states.xy_m, metric,
-                                 config.window_s, std::max(config.gyro_bias_segment_s, 6.0 * config.window_s));
-      if (fit.chunks == 0) break;
-      const double scale_before = calibrated.path.calibration.distance_scale;
-      const std::vector<double> bias_before = calibrated.path.step_bias_rad_s;
-      // Converged: the new calibration turns the path by less than kSettledTurn_rad anywhere and
-      // changes its length by less than kSettledScale, far below what the windows resolve (a
-      // rotation of a 30 m window by 1 mrad moves its ends by 3 cm). No solve again.
-      constexpr double kSettledTurn_rad = 1e-3;
-      constexpr double kSettledScale = 1e-4;
-      {
-        double turn_rad = 0.0, largest_rad = 0.0;
-        for (int k = 0; k + 1 < calibrated.path.size(); ++k) {
-          const double dt_s = 1e-6 * static_cast<double>(calibrated.path.utime[k + 1] - calibrated.path.utime[k]);
-          turn_rad += (fit.step_bias_rad_s[k] - calibrated.path.stepHeadingBias(k)) * dt_s;
-          largest_rad = std::max(largest_rad, std::abs(turn_rad));
-        }
-        if (largest_rad < kSettledTurn_rad && std::abs(fit.distance_scale / scale_before - 1.0) < kSettledScale) {
-          solution.calibration_chunks = fit.chunks;
-          solution.heading_rate_bias_sigma_rad_s = fit.bias_sigma_rad_s;
-          break;
-        }
+// Steps 1-3 with the odometry calibration (config.calibrate_odometry): estimate (s, b) against
+// the solution, dead-reckon again with them, solve again, so that the windows and the start-pose
+// upgrade see calibrated motion. From the raw odometry, or (start) from a given calibration.
+struct CalibratedPass {
+  SolvePass pass;
+  SpectralProblem calibrated;  // its path is the one the pass used (the problem's if no calibration)
+  int chunks = 0;
+  double bias_sigma_rad_s = 0.0;
+};
+
+CalibratedPass calibrateAndSolve(const SpectralProblem& problem, const SpectralConfig& config,
+                                 const CarriedCalibration* start) {
+  CalibratedPass out;
+  out.calibrated = problem;
+  if (start != nullptr) {
+    out.calibrated.path.recalibrate(start->distance_scale, start->step_bias_rad_s);
+    out.pass = solvePass(out.calibrated, config, &problem.path);
+  } else {
+    out.pass = solvePass(problem, config);
+  }
+  if (!config.calibrate_odometry) return out;
+  SolvePass& pass = out.pass;
+  SpectralProblem& calibrated = out.calibrated;
+  // A few passes: each pass's solution is closer to the truth where the windows bent under the
+  // drift.
+  constexpr int kCalibrationPasses = 3;
+  for (int iteration = 0; iteration < kCalibrationPasses; ++iteration) {
+    // anchor = start_pose: the learned path takes its scale from the odometry, so only b.
+    const bool metric = config.anchor == SpectralAnchor::kBeacons;
+    const CalibrationFit fit =
+        fitOdometryCalibration(calibrated.path, pass.measurements.poses, pass.states.xy_m, metric,
+                               config.window_s, std::max(config.gyro_bias_segment_s, 6.0 * config.window_s));
+    if (fit.chunks == 0) break;
+    const double scale_before = calibrated.path.calibration.distance_scale;
+    const std::vector<double> bias_before = calibrated.path.step_bias_rad_s;
+    // Converged: the new calibration turns the path by less than kSettledTurn_rad anywhere and
+    // changes its length by less than kSettledScale, far below what the windows resolve (a
+    // rotation of a 30 m window by 1 mrad moves its ends by 3 cm). No solve again.
+    constexpr double kSettledTurn_rad = 1e-3;
+    constexpr double kSettledScale = 1e-4;
+    {
+      double turn_rad = 0.0, largest_rad = 0.0;
+      for (int k = 0; k + 1 < calibrated.path.size(); ++k) {
+        const double dt_s = 1e-6 * static_cast<double>(calibrated.path.utime[k + 1] - calibrated.path.utime[k]);
+        turn_rad += (fit.step_bias_rad_s[k] - calibrated.path.stepHeadingBias(k)) * dt_s;
+        largest_rad = std::max(largest_rad, std::abs(turn_rad));
       }
-      calibrated.path.recalibrate(fit.distance_scale, fit.step_bias_rad_s);
-      try {
-        pass = solvePass(calibrated, config, &problem.path);
-      } catch (const InsufficientData&) {
-        calibrated.path.recalibrate(scale_before, bias_before);
-        pass = solvePass(calibrated, config, &problem.path);
+      if (largest_rad < kSettledTurn_rad && std::abs(fit.distance_scale / scale_before - 1.0) < kSettledScale) {
+        out.chunks = fit.chunks;
+        out.bias_sigma_rad_s = fit.bias_sigma_rad_s;
         break;
       }
-      solution.calibration_chunks = fit.chunks;
-      solution.heading_rate_bias_sigma_rad_s = fit.bias_sigma_rad_s;
     }
-    path = &calibrated.path;
+    calibrated.path.recalibrate(fit.distance_scale, fit.step_bias_rad_s);
+    try {
+      pass = solvePass(calibrated, config, &problem.path);
+    } catch (const InsufficientData&) {
+      calibrated.path.recalibrate(scale_before, bias_before);
+      pass = solvePass(calibrated, config, &problem.path);
+      break;
+    }
+    out.chunks = fit.chunks;
+    out.bias_sigma_rad_s = fit.bias_sigma_rad_s;
   }
+  return out;
+}
+
+// Steps 1-4 and the self-check with config.window_s as the window. carry (calibrate_odometry):
+// in, the calibration of the previous (shorter) attempt whose windows fitted the ranges; out, this
+// attempt's, if its windows fit them.
+SpectralSolution solveAtWindow(const SpectralProblem& problem, const SpectralConfig& config,
+                               CarriedCalibration* carry) {
+  const int N = static_cast<int>(problem.beacon_ids.size());
+  std::optional<CalibratedPass> chain;
+  try {
+    chain = calibrateAndSolve(problem, config, nullptr);
+  } catch (const InsufficientData&) {
+    if (!(config.calibrate_odometry && carry->valid)) throw;
+  }
+  if (config.calibrate_odometry && carry->valid) {
+    // A window twice as long turns twice as far under a gyro bias, and one as long as the
+    // calibration's chunks leaves too few of them to estimate it (chunks = 0), so the raw
+    // odometry can leave the longer windows unfit. The calibration is solved again from the
+    // shorter windows' as well, and the one whose windows fit the ranges better is kept (one
+    // fitted to a wrong solution can be worse than none).
+    std::optional<CalibratedPass> from_carry;
+    try {
+      from_carry = calibrateAndSolve(problem, config, carry);
+    } catch (const InsufficientData&) {
+      if (!chain) throw;
+    }
+    if (from_carry && (!chain || from_carry->pass.local_median_m < chain->pass.local_median_m))
+      chain = std::move(from_carry);
+  }
+  SolvePass& pass = chain->pass;
+  const OdometryPath* path = config.calibrate_odometry ? &chain->calibrated.path : &problem.path;
+  SpectralSolution solution;
+  solution.calibration_chunks = chain->chunks;
+  solution.heading_rate_bias_sigma_rad_s = chain->bias_sigma_rad_s;
   solution.calibration = path->calibration;
   solution.trajectory = assembleTrajectory(*path, pass.measurements.poses, pass.states, config.window_s);
   solution.local_median_residual_m = pass.local_median_m;
   solution.window_outlier_fraction = pass.outlier_fraction;
+  if (config.calibrate_odometry && !path->step_bias_rad_s.empty() &&
+      pass.local_median_m <= config.max_local_residual_sigma * config.range_sigma_m) {
+    carry->valid = true;
+    carry->distance_scale = path->calibration.distance_scale;
+    carry->step_bias_rad_s = path->step_bias_rad_s;
+  }
   solution.median_residual_m = globalMedianResidual(problem, config, solution.trajectory, pass.states.beacons_m);
   // Self-check: never publish a wrong answer. Windows that cannot model the ranges (too many
   // outliers for the robust fit, ranges too sparse for the window), or a solution that does not
@@ -502,7 +575,10 @@ double solutionMedianResidual(const SpectralProblem& problem, const SpectralConf
   return globalMedianResidual(problem, config, trajectory, learned_beacons);
 }
 
-SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& given_config) {
+namespace {
+
+// Steps 1-4 with the window retries.
+SpectralSolution solveWithRetries(const SpectralProblem& problem, const SpectralConfig& given_config) {
   const int N = static_cast<int>(problem.beacon_ids.size());
   const int T = problem.path.size();
   if (T < 2) throw InsufficientData("spectral: no odometry");
@@ -513,10 +589,12 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
   // (consistent_residual_ratio): twice the window, up to window_retries times. Of the solutions
   // that pass, the one with the lowest median residual is kept.
   std::optional<SpectralSolution> best;
+  CarriedCalibration carry;
+  std::string upgrade_failure;  // the first attempt's that was not the self-check's
   for (int attempt = 0;; ++attempt) {
     const bool last = attempt >= config.window_retries;
     try {
-      SpectralSolution solution = solveAtWindow(problem, config);
+      SpectralSolution solution = solveAtWindow(problem, config, &carry);
       const double reference_m =
           std::max(solution.local_median_residual_m, 0.674 * config.range_sigma_m);
       // The retry is for beacon-windows whose ranges are mostly outliers (the robust fit's
@@ -531,14 +609,62 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
                               solution.median_residual_m <= ratio_limit * reference_m;
       if (!best || solution.median_residual_m < best->median_residual_m) best = std::move(solution);
       if (consistent || last) return *best;
-    } catch (const WindowsDoNotFit& too_few) {
+    } catch (const InsufficientData& too_few) {
+      // The self-check failed (WindowsDoNotFit), or the learned states did not fix the start-pose
+      // upgrade: windows that outliers or drift bent can leave no paraboloid through them, and
+      // a longer window may. A geometry that cannot fix it (one circle) fails at every length;
+      // if no length solves, that reason is the one given (it says what to change).
+      if (!dynamic_cast<const WindowsDoNotFit*>(&too_few) && upgrade_failure.empty())
+        upgrade_failure = too_few.what();
       if (last) {
         if (best) return *best;
-        throw InsufficientData(too_few.what());
+        throw InsufficientData(upgrade_failure.empty() ? too_few.what() : upgrade_failure);
       }
     }
     config.window_s *= 2.0;
   }
+}
+
+}  // namespace
+
+SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config) {
+  SpectralSolution solution = solveWithRetries(problem, config);
+  // Outliers grew the window (the retries): long windows outvote them, but over a long window dead
+  // reckoning is no longer a rigid motion of the truth (its heading random-walks), so the learned
+  // path bends. The long-window solution explains the inliers to about its median residual, so
+  // ranges far off it (beyond outlier_drop_sigmas robust sigmas of the residuals, and beyond that
+  // many range_sigma_m) are dropped, and the run is solved again from the base window. The second
+  // solution is kept if it explains all the ranges (outliers included: the median is the inliers')
+  // at least as well.
+  if (!(config.outlier_drop_sigmas > 0.0) || !(solution.window_s > effectiveWindowSeconds(problem, config)))
+    return solution;
+  const int N = static_cast<int>(problem.beacon_ids.size());
+  Eigen::Matrix2Xd learned(2, N);
+  for (int n = 0; n < N; ++n) learned.col(n) << solution.beacons[n].x_m, solution.beacons[n].y_m;
+  const std::vector<double> residual = rangeResiduals(problem, config, solution.trajectory, learned);
+  std::vector<double> magnitude;
+  for (double e : residual)
+    if (!std::isnan(e)) magnitude.push_back(std::abs(e));
+  const double cut_m = config.outlier_drop_sigmas * std::max(1.4826 * medianOf(magnitude), config.range_sigma_m);
+  SpectralProblem clean = problem;
+  clean.ranges.clear();
+  for (size_t i = 0; i < problem.ranges.size(); ++i)
+    if (!(std::abs(residual[i]) > cut_m)) clean.ranges.push_back(problem.ranges[i]);
+  const int dropped = static_cast<int>(problem.ranges.size() - clean.ranges.size());
+  if (dropped == 0) return solution;
+  try {
+    SpectralSolution second = solveWithRetries(clean, config);
+    Eigen::Matrix2Xd learned2(2, N);
+    for (int n = 0; n < N; ++n) learned2.col(n) << second.beacons[n].x_m, second.beacons[n].y_m;
+    const double all_m = globalMedianResidual(problem, config, second.trajectory, learned2);
+    if (all_m <= solution.median_residual_m) {
+      second.median_residual_m = all_m;
+      second.dropped_ranges = dropped;
+      return second;
+    }
+  } catch (const InsufficientData&) {
+  }
+  return solution;
 }
 
 }  // namespace roam::spectral

@@ -49,6 +49,7 @@ struct SpectralSolution {
   double local_median_residual_m = 0.0;
   // Fraction of the ranges beyond 3 robust sigmas (1.4826 x the median) of the windows' fits.
   double window_outlier_fraction = 0.0;
+  int dropped_ranges = 0;  // ranges left out of the final solve as far off a long-window solution
 };
 
 InterpolationConfig interpolationConfig(const SpectralConfig& config);
