@@ -170,6 +170,7 @@ class OnlineEmSlam : public Estimator {
   void mStep();
   void mixtureMStep();
   void calibrationMStep();
+  void setDistanceScale(double s);
   void correctFrame();
   void applyFrameMotion(double angle_rad, const Eigen::Vector2d& translation_m);
   void rerun();

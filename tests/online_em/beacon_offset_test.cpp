@@ -44,12 +44,16 @@ struct OffsetRun {
   std::map<int, double> offsets;
 };
 
-OffsetRun runBeacons(const Dataset& data, double offset_sigma_m, uint64_t particle_seed = 1) {
+// scale_spread_sigma: distance_scale_particle_sigma (the default; 0 = round 4's model, which
+// the offsets' figures were measured with).
+OffsetRun runBeacons(const Dataset& data, double offset_sigma_m, uint64_t particle_seed = 1,
+                     double scale_spread_sigma = OnlineEmConfig{}.distance_scale_particle_sigma) {
   OnlineEmConfig config;
   setOptions(&config, addOnlineEmOptions,
              {{"anchor", "beacons"}, {"estimate_beacon_range_offsets", offset_sigma_m > 0.0 ? "true" : "false"},
               {"beacon_range_offset_sigma_m", std::to_string(offset_sigma_m > 0.0 ? offset_sigma_m : 1.5)},
-              {"seed", std::to_string(particle_seed)}});
+              {"seed", std::to_string(particle_seed)},
+              {"distance_scale_particle_sigma", std::to_string(scale_spread_sigma)}});
   OnlineEmSlam slam(config);
   feed(data, slam);
   OffsetRun run{meanError(slam.filteredPath(), data.ground_truth), {}};
@@ -133,10 +137,12 @@ TEST(OnlineEmBeaconOffsets, AuvWithOffsetsWithinDeadReckoningBound) {
     const double on_m = runBeacons(data, 1.5, particle_seed).mean_m;
     std::printf("AUV seed %d (particle seed %d) with offsets: %.2f m on, DR %.2f m\n", static_cast<int>(seed),
                 static_cast<int>(particle_seed), on_m, dr_m);
-    // Measured: 108: 3.37, 203: 3.16, 309: 4.37 m.
+    // Measured: 108: 4.36, 203: 4.27, 309: 5.31 m (without the scale spread 3.37, 3.16, 4.37).
     EXPECT_LT(on_m, 1.25 * dr_m);
     if (seed == 309) {
-      EXPECT_GT(runBeacons(data, 0.0, particle_seed).mean_m, 1.25 * dr_m);
+      // Neither offsets nor the scale spread (round 4's model without offsets): 25.1 m. The
+      // scale spread alone holds it (4.9 m).
+      EXPECT_GT(runBeacons(data, 0.0, particle_seed, 0.0).mean_m, 1.25 * dr_m);
     }
   }
 }
