@@ -222,6 +222,7 @@ class OnlineEmSlam : public Estimator {
   enum class BiasState { kUndecided, kEstimated, kFixed };
   BiasState bias_state_ = BiasState::kUndecided;
   int rate_ranges_ = 0;
+  bool ranges_dense_so_far_ = false;
   int64_t rate_first_utime_ = 0, rate_last_utime_ = 0;
   void checkBiasObservable(int64_t range_utime);
   // Adaptive motion noise (adapt_motion_noise): running averages of pi (e^2 - sr^2 - v_map)

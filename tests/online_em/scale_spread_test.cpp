@@ -53,7 +53,8 @@ TEST(OnlineEmScaleSpread, NlosWithScaledOdometryLearnsTheScale) {
               on.mean_m, on.distance_scale, on.range_scale, on.bias_rad_s, off.mean_m, off.distance_scale,
               off.range_scale);
   // The odometry reports 0.97 of the distance: s = 1 / 0.97 = 1.031; ranges are unscaled.
-  // Measured (seed 41): see the README ("Per-particle distance-scale spread").
+  // Measured (seed 41): 0.27 m, s 1.025, range scale 1.004, b 0.0046 rad/s; without the
+  // spread 0.57 m, s 1.003, range scale 1.023.
   EXPECT_NEAR(on.distance_scale, 1.0 / 0.97, 0.012);
   EXPECT_NEAR(on.range_scale, 1.0, 0.012);
   EXPECT_NEAR(on.bias_rad_s, 0.005, 0.001);
