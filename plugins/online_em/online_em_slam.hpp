@@ -58,6 +58,13 @@
 // compares the window dead-reckoned with the re-run's calibration to the current one. Poses
 // already published stay published; the map, particles and path are the re-run's.
 //
+// Per-particle distance-scale spread (distance_scale_particle_sigma, particle_motion.hpp): each
+// particle carries its own deviation d_k (AR(1) over the distance travelled) and moves with
+// s (1 + d_k), so the ranges can select lineages with the right scale and the M-step's s sees
+// them; after each M-step d_k is re-expressed about the new s. Where s is observable (anchor =
+// beacons, or no range scale in theta) and the ranges are dense (the bias rule below, and before
+// its 20th range the same rule on the ranges so far).
+//
 // Heading-rate bias observability (heading_rate_bias_max_drift_rad, the EKF's rule): b is
 // held at 0 until the 20th range, then estimated only if its prior would turn the heading by
 // at most that much over three mean range intervals; otherwise fixed at 0 (s alone in the
