@@ -27,6 +27,10 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
               "estimate the distance scale and heading-rate bias in the M-step");
   options.add("distance_scale_prior_sigma", &c->distance_scale_prior_sigma, "prior sigma of the distance scale around 1")
       .min(0.0, false);
+  options.add("distance_scale_particle_sigma", &c->distance_scale_particle_sigma,
+              "per-particle distance-scale deviation sigma (fraction; 0: off)").min(0.0);
+  options.add("distance_scale_particle_length_m", &c->distance_scale_particle_length_m,
+              "correlation length (distance travelled) of the per-particle distance-scale deviation").min(0.0, false);
   options.add("heading_rate_bias_prior_sigma_rad_s", &c->heading_rate_bias_prior_sigma_rad_s,
               "prior sigma of the heading-rate bias around 0").min(0.0, false);
   options.add("heading_rate_bias_max_drift_rad", &c->heading_rate_bias_max_drift_rad,

@@ -53,6 +53,25 @@ struct OnlineEmConfig {
   // b = 0 for odometry known to be clean.
   bool calibrate_odometry = true;
   double distance_scale_prior_sigma = 0.05;
+  // Per-particle distance-scale spread (calibrate_odometry, odometry model): each particle
+  // carries its own fractional deviation d_k from the learned s, an AR(1) process of stationary
+  // sigma distance_scale_particle_sigma (the prior sigma of s: the cloud spans the scales the
+  // prior allows) and correlation length distance_scale_particle_length_m over the distance
+  // travelled, and moves with s (1 + d_k). Without it the cloud cannot hold a persistent scale error
+  // (2 % per-step noise, a 3 % scale error accumulates linearly), the ranges cannot select the
+  // lineages that moved further, and the complete-data statistic of s only sees the s it was
+  // proposed with (30 % NLOS + 0.97 scale, beacons: s learned 1.00 against 1.031). 0 = off.
+  // Active only where s is observable: anchor = beacons (the surveyed beacons fix the metric),
+  // or estimate_range_scale = false. From the start pose with a range scale in theta,
+  // (s, range scale, map) -> (l s, range scale / l, l map) fits every range: the spread lets
+  // the cloud drift along that direction (gyro-drift figure-8, start pose: s 0.94, range scale
+  // 1.066, 0.63 -> 1.00 m), so it is off there.
+  double distance_scale_particle_sigma = 0.05;
+  double distance_scale_particle_length_m = 20.0;
+  bool scaleSpreadActive() const {
+    return calibrate_odometry && distance_scale_particle_sigma > 0.0 && motion_model == MotionModel::kOdometry &&
+           (anchor == Anchor::kBeacons || !estimate_range_scale);
+  }
   double heading_rate_bias_prior_sigma_rad_s = 0.01;
   // Observability of the heading-rate bias (the EKF's gyro_bias_max_drift_rad, same rule and
   // value): the ranges re-fix the heading about every three ranges; over that time the bias

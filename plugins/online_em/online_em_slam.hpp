@@ -58,6 +58,13 @@
 // compares the window dead-reckoned with the re-run's calibration to the current one. Poses
 // already published stay published; the map, particles and path are the re-run's.
 //
+// Per-particle distance-scale spread (distance_scale_particle_sigma, particle_motion.hpp): each
+// particle carries its own deviation d_k (AR(1) over the distance travelled) and moves with
+// s (1 + d_k), so the ranges can select lineages with the right scale and the M-step's s sees
+// them; after each M-step d_k is re-expressed about the new s. Where s is observable (anchor =
+// beacons, or no range scale in theta) and the ranges are dense (the bias rule below, and before
+// its 20th range the same rule on the ranges so far).
+//
 // Heading-rate bias observability (heading_rate_bias_max_drift_rad, the EKF's rule): b is
 // held at 0 until the 20th range, then estimated only if its prior would turn the heading by
 // at most that much over three mean range intervals; otherwise fixed at 0 (s alone in the
@@ -170,6 +177,7 @@ class OnlineEmSlam : public Estimator {
   void mStep();
   void mixtureMStep();
   void calibrationMStep();
+  void setDistanceScale(double s);
   void correctFrame();
   void applyFrameMotion(double angle_rad, const Eigen::Vector2d& translation_m);
   void rerun();
@@ -221,6 +229,7 @@ class OnlineEmSlam : public Estimator {
   enum class BiasState { kUndecided, kEstimated, kFixed };
   BiasState bias_state_ = BiasState::kUndecided;
   int rate_ranges_ = 0;
+  bool ranges_dense_so_far_ = false;
   int64_t rate_first_utime_ = 0, rate_last_utime_ = 0;
   void checkBiasObservable(int64_t range_utime);
   // Adaptive motion noise (adapt_motion_noise): running averages of pi (e^2 - sr^2 - v_map)

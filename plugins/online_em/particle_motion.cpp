@@ -19,6 +19,15 @@ void ParticleMotion::setControl(const Odometry& odometry, double dt_s,
     raw_ = odometry;
     dt_s_ = dt_s;
     increment_ = estimation::calibratedIncrement(odometry, dt_s, calibration);
+    scale_spread_ = scaleSpread();
+    if (scale_spread_) {
+      // Correlation over the distance travelled: a = exp(-|q_uv| / L).
+      scale_ar_ = std::exp(-std::hypot(increment_[0], increment_[1]) / config_.distance_scale_particle_length_m);
+      scale_innovation_sigma_ = std::sqrt(1.0 - scale_ar_ * scale_ar_) * config_.distance_scale_particle_sigma;
+    } else {
+      scale_ar_ = 1.0;
+      scale_innovation_sigma_ = 0.0;
+    }
     estimation::MotionNoise noise;
     noise.distance_fraction = config_.odo_distance_sigma_rel;
     noise.min_sigma_m = config_.odo_distance_sigma_m;
@@ -55,7 +64,15 @@ void ParticleMotion::sample(const ParticlePoses& previous, int from, ParticlePos
   if (!bicycle_) {
     Eigen::Vector3d white;
     for (int i = 0; i < 3; ++i) white[i] = normal(rng);
-    const Eigen::Vector3d increment = increment_ + noise_factor_ * white;
+    Eigen::Vector3d increment = increment_;
+    if (scale_spread_) {
+      const double d = scale_ar_ * previous.scale_deviation[from] + scale_innovation_sigma_ * normal(rng);
+      next->scale_deviation[to] = d;
+      increment.head<2>() *= 1.0 + d;
+    } else {
+      next->scale_deviation[to] = 0.0;
+    }
+    increment += noise_factor_ * white;
     const double pose[3] = {x, y, th};
     double out[3];
     estimation::composeIncrement(pose, increment.data(), out);
@@ -78,17 +95,21 @@ void ParticleMotion::logKernel(const ParticlePoses& previous, const ParticlePose
   log_kernel->resize(n_next, n_prev);
   if (!bicycle_) {
     const Eigen::Matrix3d& w = information_;
+    const bool spread = scale_spread_;
+    // 1 + d_k (d = 0 when off: the same increments).
+    const Eigen::ArrayXd factor = spread ? Eigen::ArrayXd(1.0 + next.scale_deviation) : Eigen::ArrayXd::Ones(n_next);
     for (int l = 0; l < n_prev; ++l) {
       const double c = std::cos(previous.heading_rad[l]), s = std::sin(previous.heading_rad[l]);
       const Eigen::ArrayXd dx = next.x_m - previous.x_m[l];
       const Eigen::ArrayXd dy = next.y_m - previous.y_m[l];
-      const Eigen::ArrayXd e_f = c * dx + s * dy - increment_[0];
-      const Eigen::ArrayXd e_l = c * dy - s * dx - increment_[1];
+      const Eigen::ArrayXd e_f = c * dx + s * dy - factor * increment_[0];
+      const Eigen::ArrayXd e_l = c * dy - s * dx - factor * increment_[1];
       const Eigen::ArrayXd e_h = next.heading_rad - previous.heading_rad[l] - increment_[2];
-      log_kernel->col(l) =
-          (log_weight[l] - 0.5 * (w(0, 0) * e_f.square() + w(1, 1) * e_l.square() + w(2, 2) * e_h.square() +
-                                  2.0 * (w(0, 1) * e_f * e_l + w(0, 2) * e_f * e_h + w(1, 2) * e_l * e_h)))
-              .matrix();
+      Eigen::ArrayXd quadratic = w(0, 0) * e_f.square() + w(1, 1) * e_l.square() + w(2, 2) * e_h.square() +
+                                 2.0 * (w(0, 1) * e_f * e_l + w(0, 2) * e_f * e_h + w(1, 2) * e_l * e_h);
+      if (spread && scale_innovation_sigma_ > 0.0)
+        quadratic += ((next.scale_deviation - scale_ar_ * previous.scale_deviation[l]) / scale_innovation_sigma_).square();
+      log_kernel->col(l) = (log_weight[l] - 0.5 * quadratic).matrix();
     }
     return;
   }

@@ -9,6 +9,10 @@
 //     x_t = x (+) (q + e),   i.e. p_t = p + R(th) (q_uv + e_uv),  th_t = th + q_w + e_w.
 //   The inverse is exact: e = (R(th)^T (p_t - p), th_t - th) - q, so
 //   log m = -1/2 e^T Q^-1 e + const (a proper density on the 3-D pose).
+//   Per-particle scale deviation d (distance_scale_particle_sigma > 0): the state is (x, d),
+//   d_t = a d_{t-1} + sqrt(1 - a^2) sigma_d e_d, a = exp(-|q_uv| / distance_scale_particle_length_m)
+//   (correlated over the distance travelled; no innovation while standing still: no e_d term), and the
+//   translation part of q is multiplied by (1 + d_t); the density adds -1/2 e_d^2 to log m.
 //   Calibration statistic (odometry_calibration.hpp): e is linear in (s, b),
 //     e = z - J (s, b),  z = (R(th)^T (p_t - p), th_t - th - w),  J = [[u, 0], [v, 0], [0, -dt]].
 // "bicycle" (the paper's f, wheelbase B): controls (v, psi) from (d, dth) = (v dt, v dt sin(psi)/B),
@@ -31,12 +35,14 @@ namespace roam {
 namespace online_em {
 
 // Particle poses as structure-of-arrays (world frame; headings unwrapped, continuous).
+// scale_deviation: the particle's own fractional distance-scale deviation d (distance_scale_particle_sigma).
 struct ParticlePoses {
-  Eigen::ArrayXd x_m, y_m, heading_rad;
+  Eigen::ArrayXd x_m, y_m, heading_rad, scale_deviation;
   void resize(int n) {
     x_m.resize(n);
     y_m.resize(n);
     heading_rad.resize(n);
+    scale_deviation = Eigen::ArrayXd::Zero(n);
   }
   int size() const { return static_cast<int>(x_m.size()); }
 };
@@ -50,6 +56,11 @@ class ParticleMotion {
   // Multiplies the translation (forward, lateral) standard deviations of the odometry model by
   // `scale` from the next setControl on (the adaptive motion noise; 1 = as configured).
   void setTranslationNoiseScale(double scale) { translation_noise_scale_ = scale; }
+  // Enables the per-particle scale deviation from the next setControl on (where the config
+  // allows it, OnlineEmConfig::scaleSpreadActive; the filter enables it once the ranges are
+  // dense enough to select among the particles' scales).
+  void enableScaleSpread(bool enabled) { scale_spread_enabled_ = enabled; }
+  bool scaleSpread() const { return config_.scaleSpreadActive() && scale_spread_enabled_; }
 
   // Draws the new pose of particle `to` from old particle `from` of `previous`.
   void sample(const ParticlePoses& previous, int from, ParticlePoses* next, int to,
@@ -79,6 +90,9 @@ class ParticleMotion {
   Eigen::Matrix3d noise_factor_ = Eigen::Matrix3d::Zero(), information_ = Eigen::Matrix3d::Identity();
   double steer_rad_ = 0.0, sigma_step_m_ = 0.0;  // bicycle: psi and sigma_v dt
   double translation_noise_scale_ = 1.0;
+  // Per-particle scale deviation: AR(1) coefficient a and innovation sigma (0: off).
+  bool scale_spread_ = false, scale_spread_enabled_ = false;
+  double scale_ar_ = 1.0, scale_innovation_sigma_ = 0.0;
 };
 
 }  // namespace online_em
