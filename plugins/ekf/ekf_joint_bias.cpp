@@ -114,42 +114,51 @@ class JointProblem {
 }  // namespace
 
 JointBiasResult solveJointHeadingBias(const std::map<int, std::vector<Sighting>>& sightings,
-                                      const std::map<int, Eigen::Vector2d>& start_m, const RangeBiasPrior& bias,
+                                      const std::map<int, estimation::MultilaterationResult>& start_solves, const RangeBiasPrior& bias,
                                       double gate, int min_ranges) {
   JointBiasResult result;
   if (bias.heading_rate_bias_sigma_rad_s <= 0.0) return result;
   std::vector<Item> all;
-  std::vector<Eigen::Vector2d> starts;
+  std::vector<const estimation::MultilaterationResult*> starts;
   for (const auto& [id, buffer] : sightings) {
-    const auto start = start_m.find(id);
-    if (start == start_m.end() || static_cast<int>(buffer.size()) < min_ranges) continue;
+    const auto start = start_solves.find(id);
+    if (start == start_solves.end() || static_cast<int>(buffer.size()) < min_ranges) continue;
     const int k = static_cast<int>(starts.size());
-    starts.push_back(start->second);
+    starts.push_back(&start->second);
     for (const Sighting& s : buffer) all.push_back({&s, k, 1.0 / (s.sigma_m * s.sigma_m + s.position_var_m2)});
   }
   const int beacons = static_cast<int>(starts.size());
   if (beacons < 2) return result;
   const JointProblem problem(beacons, bias);
   Eigen::VectorXd t = Eigen::VectorXd::Zero(problem.size());
-  for (int k = 0; k < beacons; ++k) t.segment<2>(2 * k) = starts[k];
+  for (int k = 0; k < beacons; ++k) t.segment<2>(2 * k) = starts[k]->world_m;
   if (bias.estimated()) t.segment<2>(2 * beacons) << bias.scale, bias.offset_m;
-  // Start: the ranges that agree with the beacons' own solves (robust scale per beacon below).
   std::vector<bool> keep(all.size(), true);
   Eigen::MatrixXd H;
   double chi2 = 0.0;
   bool solved = false;
   for (int iteration = 0; iteration < 6; ++iteration) {
     // Select by residual against the current solution, each beacon with its own robust scale.
+    // First: against each beacon's own solve (its own range bias and db), so the outliers that
+    // solve left out do not pull the joint one; then against the joint solution.
     std::vector<bool> selected(all.size(), false);
+    const auto residual = [&](const Item& it) {
+      if (solved) return problem.residual(t, it);
+      const estimation::MultilaterationResult& own = *starts[it.beacon];
+      const double db = own.heading_rate_bias_rad_s;
+      return it.s->range_m -
+             own.scale * std::hypot(own.world_m.x() - it.s->x_m - it.s->dx_db * db, own.world_m.y() - it.s->y_m - it.s->dy_db * db) -
+             own.offset_m;
+    };
     for (int k = 0; k < beacons; ++k) {
       std::vector<double> magnitude;
       for (const Item& it : all)
-        if (it.beacon == k) magnitude.push_back(std::abs(problem.residual(t, it)));
+        if (it.beacon == k) magnitude.push_back(std::abs(residual(it)));
       std::nth_element(magnitude.begin(), magnitude.begin() + magnitude.size() / 2, magnitude.end());
       const double robust_sigma_m = 1.4826 * magnitude[magnitude.size() / 2];
       for (size_t i = 0; i < all.size(); ++i)
         if (all[i].beacon == k)
-          selected[i] = std::abs(problem.residual(t, all[i])) <= gate * std::max(robust_sigma_m, all[i].s->sigma_m);
+          selected[i] = std::abs(residual(all[i])) <= gate * std::max(robust_sigma_m, all[i].s->sigma_m);
     }
     if (solved && selected == keep) break;
     keep = selected;

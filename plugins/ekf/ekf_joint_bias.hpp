@@ -31,11 +31,12 @@ struct JointBiasResult {
   double chi2 = 0.0;
 };
 
-// sightings: each beacon's buffered sightings; start_m: a starting position per beacon (only the
-// beacons with one take part). gate: the per-range gate (sigma units). False (ok = false) with
+// sightings: each beacon's buffered sightings; start: each beacon's own solve (only the beacons
+// with one take part): its position starts the joint solve, and its range bias and db select the
+// sightings the joint solve starts from. gate: the per-range gate (sigma units). False (ok = false) with
 // fewer than 2 beacons, or when the solve fails.
 JointBiasResult solveJointHeadingBias(const std::map<int, std::vector<estimation::Sighting>>& sightings,
-                                      const std::map<int, Eigen::Vector2d>& start_m,
+                                      const std::map<int, estimation::MultilaterationResult>& start,
                                       const estimation::RangeBiasPrior& bias, double gate, int min_ranges);
 
 }  // namespace ekf

@@ -502,11 +502,11 @@ JointBiasResult EkfSlam::jointHeadingBias() const {
   }
   const int b = filter_.calibrationIndex() + 1;
   bias.heading_rate_bias_sigma_rad_s = std::sqrt(filter_.covariance()(b, b));
-  std::map<int, Eigen::Vector2d> start;
+  std::map<int, MultilaterationResult> start;
   for (const auto& [id, solve] : last_solve_)
     if (pending_.count(id) && (solve.status == MultilaterationResult::Status::kPoorlyConstrained ||
                                solve.status == MultilaterationResult::Status::kReady))
-      start[id] = solve.world_m;
+      start[id] = solve;
   if (start.size() < 2) return none;
   JointBiasResult joint = solveJointHeadingBias(pending_, start, bias, std::sqrt(gate_range_chi2_), config_.init_min_ranges);
   // As for one beacon: outliers explained by the range bias (scale 1.47, offset 6 m on nlosw
