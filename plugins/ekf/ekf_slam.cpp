@@ -6,6 +6,7 @@
 #include <string>
 
 #include "roam/estimation/motion_model.hpp"
+#include "ekf_joint_bias.hpp"
 #include "roam/estimation/multilateration.hpp"
 
 namespace roam {
@@ -398,6 +399,7 @@ void EkfSlam::initialiseReadyBeacons() {
     inserted = false;
     const std::set<int> candidates = touched_;
     touched_.clear();
+    const JointBiasResult joint = jointHeadingBias();
     for (int id : candidates) {
       auto it = pending_.find(id);
       if (it == pending_.end()) continue;
@@ -416,9 +418,26 @@ void EkfSlam::initialiseReadyBeacons() {
         const int b = filter_.calibrationIndex() + 1;
         bias.heading_rate_bias_sigma_rad_s = std::sqrt(filter_.covariance()(b, b));
       }
+      // Several pending beacons pin the curl far better than one (jointHeadingBias): the
+      // sightings are uncurled by the joint estimate, and this solve estimates what is left of
+      // db within the joint's sigma.
+      std::vector<Sighting> corrected;
+      const std::vector<Sighting>* buffer = &it->second;
+      double db_joint = 0.0;
+      if (bias.heading_rate_bias_sigma_rad_s > 0.0 && joint.ok &&
+          joint.db_sigma_rad_s < 0.5 * bias.heading_rate_bias_sigma_rad_s) {
+        db_joint = joint.db_rad_s;
+        bias.heading_rate_bias_sigma_rad_s = joint.db_sigma_rad_s;
+        corrected = it->second;
+        for (Sighting& sg : corrected) {
+          sg.x_m += sg.dx_db * db_joint;
+          sg.y_m += sg.dy_db * db_joint;
+        }
+        buffer = &corrected;
+      }
       // The consensus' sightings first (as before); if their solve fails or explains its
       // outliers by the range bias, the trimmed solve over all sightings (trimmedSolve).
-      std::vector<Sighting> used = consensusSightings(it->second, bias);
+      std::vector<Sighting> used = consensusSightings(*buffer, bias);
       RangeBiasPrior plain_bias = bias;
       plain_bias.heading_rate_bias_sigma_rad_s = 0.0;
       MultilaterationResult solve = estimation::multilaterate(used, plain_bias, init_config_);
@@ -431,7 +450,7 @@ void EkfSlam::initialiseReadyBeacons() {
       const bool trim = !first_ok && (buffered < last_try || buffered >= last_try + std::max<size_t>(1, buffered / 16));
       if (trim) {
         last_try = buffered;
-        solve = trimmedSolve(it->second, bias, &used);
+        solve = trimmedSolve(*buffer, bias, &used);
       }
       if (trim && bias.heading_rate_bias_sigma_rad_s > 0.0) {
         // The bias error is kept only where the ranges ask for it: if the same sightings fit as
@@ -442,6 +461,7 @@ void EkfSlam::initialiseReadyBeacons() {
             plain.status != MultilaterationResult::Status::kNoSolution && plain.chi2 - solve.chi2 <= gate_range_chi2_)
           solve = plain;
       }
+      solve.heading_rate_bias_rad_s += db_joint;
       if (solve.status == MultilaterationResult::Status::kReady && !biasConsistent(solve, bias))
         solve.status = MultilaterationResult::Status::kPoorlyConstrained;
       // Stable: the previous solve of this beacon (one range less) lies within the gate of this
@@ -464,6 +484,38 @@ void EkfSlam::initialiseReadyBeacons() {
     }
   }
   touched_.clear();
+}
+
+JointBiasResult EkfSlam::jointHeadingBias() const {
+  // Before the first beacon only, with b a live state: the heading-rate bias error of the
+  // dead-reckoned path from every pending beacon whose own solve found a position (not a mirror,
+  // not a narrow angle), its ranges re-selected by residual (ekf_joint_bias.hpp).
+  JointBiasResult none;
+  if (!filter_.beacons().empty() || !filter_.withCalibration() || !biasEstimated(next_step_ - 1) || pending_.size() < 2)
+    return none;
+  RangeBiasPrior bias;
+  bias.scale = filter_.scale();
+  bias.offset_m = filter_.offset();
+  if (filter_.withBias()) {
+    bias.scale_sigma = std::sqrt(filter_.covariance()(EkfFilter::kScale, EkfFilter::kScale));
+    bias.offset_sigma_m = std::sqrt(filter_.covariance()(EkfFilter::kOffset, EkfFilter::kOffset));
+  }
+  const int b = filter_.calibrationIndex() + 1;
+  bias.heading_rate_bias_sigma_rad_s = std::sqrt(filter_.covariance()(b, b));
+  std::map<int, MultilaterationResult> start;
+  for (const auto& [id, solve] : last_solve_)
+    if (pending_.count(id) && (solve.status == MultilaterationResult::Status::kPoorlyConstrained ||
+                               solve.status == MultilaterationResult::Status::kReady))
+      start[id] = solve;
+  if (start.size() < 2) return none;
+  JointBiasResult joint = solveJointHeadingBias(pending_, start, bias, std::sqrt(gate_range_chi2_), config_.init_min_ranges);
+  // As for one beacon: outliers explained by the range bias (scale 1.47, offset 6 m on nlosw
+  // seed 306, db the wrong sign) fail the prior's gate.
+  MultilaterationResult as_solve;
+  as_solve.scale = joint.scale;
+  as_solve.offset_m = joint.offset_m;
+  if (joint.ok && !biasConsistent(as_solve, bias)) joint.ok = false;
+  return joint;
 }
 
 std::vector<Sighting> EkfSlam::consensusSightings(const std::vector<Sighting>& sightings,

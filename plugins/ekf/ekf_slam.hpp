@@ -40,6 +40,7 @@
 
 #include "ekf_config.hpp"
 #include "ekf_filter.hpp"
+#include "ekf_joint_bias.hpp"
 #include "roam/estimation/motion_model.hpp"
 #include "roam/estimation/multilateration.hpp"
 #include "roam/estimator.hpp"
@@ -123,6 +124,7 @@ class EkfSlam : public Estimator {
   void checkBiasObservable(int64_t range_utime);
   bool biasEstimated(int64_t step_index) const;  // b is a live state in this step
   void adaptRangeNoise(double nis);
+  JointBiasResult jointHeadingBias() const;
 
   EkfConfig config_;
   MultilaterationConfig init_config_;
