@@ -403,13 +403,7 @@ void EkfSlam::initialiseReadyBeacons() {
     for (int id : candidates) {
       auto it = pending_.find(id);
       if (it == pending_.end()) continue;
-      RangeBiasPrior bias;
-      bias.scale = filter_.scale();
-      bias.offset_m = filter_.offset();
-      if (filter_.withBias()) {
-        bias.scale_sigma = std::sqrt(filter_.covariance()(EkfFilter::kScale, EkfFilter::kScale));
-        bias.offset_sigma_m = std::sqrt(filter_.covariance()(EkfFilter::kOffset, EkfFilter::kOffset));
-      }
+      RangeBiasPrior bias = rangeBiasPrior();
       // Before the first beacon the path is dead reckoning, curled by the gyro bias the filter
       // cannot see yet (0.005 rad/s: 9 m after a minute at 1 m/s): the solve estimates that
       // bias error with the beacon, from the filter's bias prior (the first beacon only: later
@@ -486,13 +480,8 @@ void EkfSlam::initialiseReadyBeacons() {
   touched_.clear();
 }
 
-JointBiasResult EkfSlam::jointHeadingBias() const {
-  // Before the first beacon only, with b a live state: the heading-rate bias error of the
-  // dead-reckoned path from every pending beacon whose own solve found a position (not a mirror,
-  // not a narrow angle), its ranges re-selected by residual (ekf_joint_bias.hpp).
-  JointBiasResult none;
-  if (!filter_.beacons().empty() || !filter_.withCalibration() || !biasEstimated(next_step_ - 1) || pending_.size() < 2)
-    return none;
+RangeBiasPrior EkfSlam::rangeBiasPrior() const {
+  // The filter's range scale and offset, with their current uncertainty when they are states.
   RangeBiasPrior bias;
   bias.scale = filter_.scale();
   bias.offset_m = filter_.offset();
@@ -500,6 +489,17 @@ JointBiasResult EkfSlam::jointHeadingBias() const {
     bias.scale_sigma = std::sqrt(filter_.covariance()(EkfFilter::kScale, EkfFilter::kScale));
     bias.offset_sigma_m = std::sqrt(filter_.covariance()(EkfFilter::kOffset, EkfFilter::kOffset));
   }
+  return bias;
+}
+
+JointBiasResult EkfSlam::jointHeadingBias() const {
+  // Before the first beacon only, with b a live state: the heading-rate bias error of the
+  // dead-reckoned path from every pending beacon whose own solve found a position (not a mirror,
+  // not a narrow angle), its ranges re-selected by residual (ekf_joint_bias.hpp).
+  JointBiasResult none;
+  if (!filter_.beacons().empty() || !filter_.withCalibration() || !biasEstimated(next_step_ - 1) || pending_.size() < 2)
+    return none;
+  RangeBiasPrior bias = rangeBiasPrior();
   const int b = filter_.calibrationIndex() + 1;
   bias.heading_rate_bias_sigma_rad_s = std::sqrt(filter_.covariance()(b, b));
   std::map<int, MultilaterationResult> start;

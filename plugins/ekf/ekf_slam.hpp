@@ -124,6 +124,7 @@ class EkfSlam : public Estimator {
   void checkBiasObservable(int64_t range_utime);
   bool biasEstimated(int64_t step_index) const;  // b is a live state in this step
   void adaptRangeNoise(double nis);
+  RangeBiasPrior rangeBiasPrior() const;  // the filter's range scale and offset as a prior
   JointBiasResult jointHeadingBias() const;
 
   EkfConfig config_;

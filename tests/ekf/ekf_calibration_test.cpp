@@ -182,6 +182,14 @@ TEST(EkfCalibration, AuvSparseOutliersBeaconsBeatDeadReckoningOnEverySeedAndRepe
   }
 }
 
+// The NLOS 30 % lawn mower with drifting odometry: 0.005 rad/s of gyro bias, odometry 3 % short.
+sim::SimRun nlosDriftingOdometryRun(uint64_t seed) {
+  sim::SimConfig world = sim::nlos30LawnMowerWorld(seed, 3000);
+  world.odo_heading_bias_radps = 0.005;
+  world.odo_distance_scale = 0.97;
+  return sim::simulate(world);
+}
+
 TEST(EkfCalibration, NlosThirtyPercentWithDriftingOdometryInitialisesFromThePose) {
   // The development 30 % NLOS lawn-mower (ranges 2-40 m long) with worse odometry: 0.005 rad/s of
   // gyro bias and a 3 % short distance, from the start pose. Before, no beacon passed the batch
@@ -192,10 +200,7 @@ TEST(EkfCalibration, NlosThirtyPercentWithDriftingOdometryInitialisesFromThePose
   // rotated; the sweep seeds 301-306 / 401-410 went 1.68 / 5.17 -> 1.28 / 3.03 m on average).
   // Bound: 3.0 m (the dead reckoning is 21 m), every beacon, b within 1e-3.
   for (const uint64_t seed : {202, 331}) {
-    sim::SimConfig world = sim::nlos30LawnMowerWorld(seed, 3000);
-    world.odo_heading_bias_radps = 0.005;
-    world.odo_distance_scale = 0.97;
-    const sim::SimRun run = sim::simulate(world);
+    const sim::SimRun run = nlosDriftingOdometryRun(seed);
     EkfSlam ekf{EkfConfig{}};
     test::feed(run, ekf);
     const double error_m = meanError(ekf.path(), run.ground_truth);
@@ -220,10 +225,7 @@ TEST(EkfCalibration, NlosDriftingOdometryJointBiasInitialisesTheBeacons) {
   // beacon the dead-reckoned path curls with the bias, each beacon's own solve (bias estimated
   // with it) stays poorly constrained, and no beacon ever entered (dead reckoning, 20 m). The
   // joint solve of the pending beacons' sightings estimates the curl (jointHeadingBias): 0.66 m.
-  sim::SimConfig world = sim::nlos30LawnMowerWorld(332, 3000);
-  world.odo_heading_bias_radps = 0.005;
-  world.odo_distance_scale = 0.97;
-  const sim::SimRun run = sim::simulate(world);
+  const sim::SimRun run = nlosDriftingOdometryRun(332);
   EkfSlam ekf{EkfConfig{}};
   test::feed(run, ekf);
   const double error_m = meanError(ekf.path(), run.ground_truth);
