@@ -112,6 +112,7 @@ class EkfSlam : public Estimator {
   void rollbackAndInsert(int id, const MultilaterationResult& solve, std::vector<Sighting> used);
   void replayFrom(int64_t offset, int64_t first_step);
   void rerunWithCalibration();
+  void reinitialiseFromStart();  // re-filters the kept history with every beacon initialised afresh
   bool confirmStandstill(const Odometry& odometry, double dt_s);
   bool stationaryBiasUpdate(const Odometry& odometry, double dt_s, double var_turn_rad2);
   void prune();
