@@ -61,7 +61,10 @@ void EkfSlam::start(const Pose& pose) {
                          config_.calib_rerun_fraction > 0.0;
   state_utime_ = pose.utime;
   insertSurveyed();
-  path_.push_back(currentPose(pose.utime));
+  path_.clear();
+  nodes_.clear();
+  trailing_.clear();
+  pushPose(SmootherNode{});
   setState(EstimatorState::kTracking);
   publishDiagnostics();
 }
@@ -187,6 +190,8 @@ void EkfSlam::runStep(const Step& step, bool live) {
     filter_.addBeacon(insert.id, insert.world_m, insert.cov_m2);
     map_dirty_ = true;
   }
+  SmootherNode node;
+  if (config_.smooth_trajectory) filter_.record(&node.before);
   const Odometry& odo = step.odometry;
   const int64_t t0 = state_utime_, t1 = odo.utime;
   const double dt_s = std::max<int64_t>(0, t1 - t0) * 1e-6;
@@ -230,7 +235,21 @@ void EkfSlam::runStep(const Step& step, bool live) {
     filter_.predict(rest, 0.0, Q_rest);
   }
   state_utime_ = t1;
-  path_.push_back(currentPose(t1));
+  filter_.record(nullptr);
+  pushPose(std::move(node));
+}
+
+void EkfSlam::pushPose(SmootherNode node) {
+  path_.push_back(currentPose(state_utime_));
+  if (!config_.smooth_trajectory) return;
+  node.pose = filter_.mean().head<3>();
+  node.pose_rows = filter_.covariance().topRows(3);
+  nodes_.push_back(std::move(node));
+}
+
+void EkfSlam::truncatePath(size_t size) {
+  path_.resize(size);
+  if (config_.smooth_trajectory) nodes_.resize(size);
 }
 
 Eigen::Matrix3d EkfSlam::scaledMotionNoise(const Eigen::Matrix3d& Q) const {
@@ -649,7 +668,7 @@ void EkfSlam::replayFrom(int64_t offset, int64_t first_step) {
   auto entry = history_.begin() + offset;
   filter_ = entry->before;
   state_utime_ = entry->before_utime;
-  path_.resize(entry->path_size);
+  truncatePath(entry->path_size);
   for (auto it = entry; it != history_.end(); ++it) {
     it->before = filter_;
     it->before_utime = state_utime_;
@@ -696,7 +715,7 @@ void EkfSlam::reinitialiseFromStart() {
   history_.clear();
   filter_ = old.front().before;
   state_utime_ = old.front().before_utime;
-  path_.resize(old.front().path_size);
+  truncatePath(old.front().path_size);
   next_step_ = old.front().index;
   pending_.clear();  // empty (the re-run waits for every beacon), as pending_live_ranges_
   touched_.clear();
@@ -831,6 +850,7 @@ void EkfSlam::publishDiagnostics() {
 
 void EkfSlam::finish() {
   // Ranges stamped at the last step's time belong to the current pose; later ones have no pose.
+  if (config_.smooth_trajectory) filter_.record(&trailing_);
   for (const Range& range : waiting_) {
     if (started_ && range.utime <= state_utime_) {
       handleRange(range, next_step_ - 1, true);
@@ -839,6 +859,7 @@ void EkfSlam::finish() {
     }
   }
   waiting_.clear();
+  filter_.record(nullptr);
   // A beacon that never entered the state used none of its ranges: they are rejected under the
   // check its last solve failed, so the run's warning names the key to look at.
   for (const auto& [id, count] : pending_live_ranges_) {
@@ -856,7 +877,7 @@ void EkfSlam::finish() {
 
 bool EkfSlam::trajectory(bool /*force*/, Path* path) {
   if (path_.empty()) return false;
-  *path = path_;
+  *path = config_.smooth_trajectory ? smoothPath(path_, nodes_, trailing_) : path_;
   return true;
 }
 

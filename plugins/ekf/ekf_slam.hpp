@@ -116,6 +116,8 @@ class EkfSlam : public Estimator {
   bool confirmStandstill(const Odometry& odometry, double dt_s);
   bool stationaryBiasUpdate(const Odometry& odometry, double dt_s, double var_turn_rad2);
   void prune();
+  void truncatePath(size_t size);  // path_ (and nodes_) back to their first `size` poses
+  void pushPose(SmootherNode node);
   Pose currentPose(int64_t utime) const;
   void publishDiagnostics();
   estimation::MotionNoise motionNoise(const Odometry& odometry) const;
@@ -145,6 +147,10 @@ class EkfSlam : public Estimator {
   std::set<int> touched_;  // pending beacons with new sightings since the last check
   Map surveyed_;
   Path path_;
+  // smooth_trajectory: the filter at each pose of path_ and the operations between them, and
+  // those after the last pose (finish()); cut with path_ on every re-run.
+  std::vector<SmootherNode> nodes_;
+  std::vector<SmootherOperation> trailing_;
   bool map_dirty_ = false;
   std::vector<Initialisation> initialisations_;
   // Each pending beacon's last batch-solve status (STATUS: why it is not initialised).
