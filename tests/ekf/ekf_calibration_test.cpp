@@ -160,7 +160,8 @@ double mapRotationAboutStartRad(const Map& estimated, const Map& truth, const Po
 }
 
 TEST(EkfCalibration, GyroDriftFigure8StartPoseFrameDoesNotDependOnTheBias) {
-  // The calibrated re-run initialises its beacons afresh (EkfSlam::reinitialiseFromStart). It
+  // The calibrated re-run initialises its beacons afresh (EkfSlam::reinitialiseFromStart) when
+  // the calibration found a bias. It
   // used to re-use the first pass's insertions, whose frame is turned by the bias the first pass
   // could not see yet (b held at 0 for its first 20 ranges), so each map came out turned with
   // the bias' sign. The same world with +0.01 and with -0.01 rad/s must now give the same frame;
@@ -182,6 +183,7 @@ TEST(EkfCalibration, GyroDriftFigure8StartPoseFrameDoesNotDependOnTheBias) {
       EkfSlam ekf(EkfConfig{});
       test::feed(run, ekf);
       rotation_rad[sign] = mapRotationAboutStartRad(ekf.currentMap(), run.beacons, run.start);
+      EXPECT_EQ(ekf.diagnostics().at("calibration_reruns_reinitialised"), 1.0);  // a bias was found
       const double error_m = meanError(ekf.path(), run.ground_truth);
       error_sum_m += error_m;
       std::printf("gyro %+.2f rad/s seed %d: map turned %+.2f deg, mean error %.3f m, b %.5f rad/s\n",
@@ -192,6 +194,16 @@ TEST(EkfCalibration, GyroDriftFigure8StartPoseFrameDoesNotDependOnTheBias) {
   }
   std::printf("mean error over %d runs: %.3f m\n", 2 * kSeeds, error_sum_m / (2 * kSeeds));
   EXPECT_LT(error_sum_m / (2 * kSeeds), kMaxMeanErrorM);
+
+  // Without a bias the calibration finds none (|b| inside the gate of its sigma): the re-run
+  // keeps the first pass's beacons.
+  sim::SimConfig world = sim::gyroDriftFigure8World(301, 3000);
+  world.odo_heading_bias_radps = 0.0;
+  const sim::SimRun run = sim::simulate(world);
+  EkfSlam ekf(EkfConfig{});
+  test::feed(run, ekf);
+  EXPECT_EQ(ekf.diagnostics().at("calibration_reruns"), 1.0);
+  EXPECT_EQ(ekf.diagnostics().at("calibration_reruns_reinitialised"), 0.0);
 }
 
 TEST(EkfCalibration, AuvSparseOutliersBeaconsBeatDeadReckoningOnEverySeedAndRepeat) {
