@@ -718,13 +718,14 @@ void EkfSlam::reinitialiseFromStart() {
   // Re-running with the first pass's beacon insertions (mean and weak prior) kept the first
   // pass's frame: its first ~10 s dead-reckon with b held at 0 (checkBiasObservable) and its
   // first beacons were solved from that curled path, so its map is rotated by ~b t (0.01 rad/s:
-  // +1-3 degrees, the sign of the bias on every seed), and the re-run's ranges, linearised about
+  // 1-3 degrees, of one sign on 9 of 10 seeds), and the re-run's ranges, linearised about
   // those beacons, pulled b from its re-centred 0.0094 to 0.0003 rad/s within 14 s and rotated
   // the re-run the same way (drift8 seeds 301-310: -2.95 ... +0.71 degrees about the start; with
   // -0.01 rad/s the signs flip). Even with the insertions' priors made uninformative the
-  // linearisation points kept it (mean 0.59 -> 0.67 m). Re-solved from the re-centred path,
-  // the beacons enter in the frame the calibration gives, and the rotation left is the one
-  // the batch solution (spectral_batch) has too: that of the start heading and early odometry.
+  // linearisation points kept it (mean 0.59 -> 0.68 m). Re-solved from the re-centred path,
+  // the beacons enter in the frame the calibration gives; the rotation left is of either sign
+  // and of the size the batch solution's (spectral_batch) is: the start heading's and the early
+  // odometry's.
   std::deque<Step> old = std::move(history_);
   history_.clear();
   filter_ = old.front().before;
