@@ -45,6 +45,9 @@ struct EkfConfig {
   // anchor = start_pose: re-filter the run once from the start when the bias sigma falls to
   // this fraction of its prior (0: never).
   double calib_rerun_fraction = 0.1;
+  // TRAJECTORY: the filtered path smoothed backwards (Rauch-Tung-Striebel, ekf_smoother.hpp);
+  // false: the filtered path. POSE messages are the filter's either way.
+  bool smooth_trajectory = true;
 
   // Range noise: max(the message's sigma, range_sigma_m) (a stated sigma is a floor, not truth).
   double range_sigma_m = 0.5;

@@ -64,6 +64,14 @@ void EkfFilter::predict(const Odometry& odometry, double dt_s, const Eigen::Matr
   P_.topRows(3) = T;
   P_.leftCols(3) = T.transpose();
   if (withCalibration()) P_(calib_index_ + 1, calib_index_ + 1) += bias_walk_var;
+  if (record_) {
+    SmootherOperation op;
+    op.kind = SmootherOperation::Kind::kPredict;
+    op.A = Eigen::MatrixXd::Zero(3, size());
+    op.A.leftCols(3) = J.wrt_pose;
+    if (withCalibration()) op.A.middleCols(calib_index_, 2) = J.wrt_calibration;
+    record_->push_back(std::move(op));
+  }
 }
 
 void EkfFilter::predict(double distance_m, double dheading_rad, double var_distance_m2,
@@ -227,6 +235,15 @@ EkfFilter::Update EkfFilter::applyUpdate(const Eigen::MatrixXd& H,
   if (!(chi2 <= gate_chi2)) return Update::kGated;
 
   const Eigen::MatrixXd K = S_llt.solve(PHt.transpose()).transpose();  // P H' S^-1
+  if (record_) {
+    SmootherOperation op;
+    op.kind = SmootherOperation::Kind::kUpdate;
+    op.H = H;
+    op.K = K;
+    op.S_inverse = S_llt.solve(Eigen::MatrixXd::Identity(S.rows(), S.cols()));
+    op.y = S_llt.solve(innovation);
+    record_->push_back(std::move(op));
+  }
   x_ += K * innovation;
   x_(kHeading) = wrapAngle(x_(kHeading));
   // Joseph form: (I - K H) P (I - K H)' + K R K'.

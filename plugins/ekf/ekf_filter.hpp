@@ -19,6 +19,8 @@
 // symmetric positive (semi)definite; headings and bearing innovations are wrapped to (-pi, pi].
 #pragma once
 
+#include "ekf_smoother.hpp"
+
 #include <map>
 
 #include <Eigen/Dense>
@@ -133,6 +135,10 @@ class EkfFilter {
   const Eigen::VectorXd& mean() const { return x_; }
   const Eigen::MatrixXd& covariance() const { return P_; }
   int size() const { return static_cast<int>(x_.size()); }
+  // While set, every predict and applied update is appended to *operations (for the smoother,
+  // ekf_smoother.hpp); nullptr: not recorded. Not owned; copies of the filter copy the pointer,
+  // so set it only around the operations to record.
+  void record(std::vector<SmootherOperation>* operations) { record_ = operations; }
 
  private:
   Update applyUpdate(const Eigen::MatrixXd& H, const Eigen::VectorXd& innovation,
@@ -144,6 +150,7 @@ class EkfFilter {
   Eigen::MatrixXd P_;
   std::map<int, int> index_;  // beacon id -> index of its x in the state
   std::map<int, int> offset_index_;  // beacon id -> index of its own range offset (if any)
+  std::vector<SmootherOperation>* record_ = nullptr;
 };
 
 }  // namespace ekf

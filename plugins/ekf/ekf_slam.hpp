@@ -28,7 +28,8 @@
 // offset too (prior: the filter's marginal); for the first beacon, while the bias is still at its
 // prior, the snapshot's bias mean is re-centred on the batch estimate (its width unchanged), so
 // the re-run linearises s |m - p| + b about a consistent pair. The published TRAJECTORY is the
-// filtered path after these re-runs; POSE messages already published are not revised. History
+// filtered path after these re-runs, smoothed backwards (smooth_trajectory, ekf_smoother.hpp);
+// POSE messages are the filter's and those already published are not revised. History
 // is kept only while a beacon is pending (bounded by init_max_ranges and init_window_s).
 #pragma once
 
@@ -112,9 +113,12 @@ class EkfSlam : public Estimator {
   void rollbackAndInsert(int id, const MultilaterationResult& solve, std::vector<Sighting> used);
   void replayFrom(int64_t offset, int64_t first_step);
   void rerunWithCalibration();
+  void reinitialiseFromStart();  // re-filters the kept history with every beacon initialised afresh
   bool confirmStandstill(const Odometry& odometry, double dt_s);
   bool stationaryBiasUpdate(const Odometry& odometry, double dt_s, double var_turn_rad2);
   void prune();
+  void truncatePath(size_t size);  // path_ (and nodes_) back to their first `size` poses
+  void pushPose(SmootherNode node);
   Pose currentPose(int64_t utime) const;
   void publishDiagnostics();
   estimation::MotionNoise motionNoise(const Odometry& odometry) const;
@@ -144,6 +148,10 @@ class EkfSlam : public Estimator {
   std::set<int> touched_;  // pending beacons with new sightings since the last check
   Map surveyed_;
   Path path_;
+  // smooth_trajectory: the filter at each pose of path_ and the operations between them, and
+  // those after the last pose (finish()); cut with path_ on every re-run.
+  std::vector<SmootherNode> nodes_;
+  std::vector<SmootherOperation> trailing_;
   bool map_dirty_ = false;
   std::vector<Initialisation> initialisations_;
   // Each pending beacon's last batch-solve status (STATUS: why it is not initialised).
@@ -170,6 +178,7 @@ class EkfSlam : public Estimator {
   int64_t bias_release_step_ = -1;
   bool calib_rerun_pending_ = false;  // history kept from the start for one calibrated re-run
   int64_t calibration_reruns_ = 0;
+  int64_t fresh_reruns_ = 0;              // of which re-initialised every beacon (rerunWithCalibration)
   int64_t stationary_updates_ = 0;
   bool previous_stationary_ = false;       // the previous step was below stationary_speed_mps
   int agreeing_steps_ = 0;                 // slow steps in a row whose rate agreed with the one before
