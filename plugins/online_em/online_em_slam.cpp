@@ -361,6 +361,41 @@ double OnlineEmSlam::mixtureLogLikelihood(const RangeObservation& y, double x_m,
   return log_sum;
 }
 
+namespace {
+
+// Mirror ambiguity of a multilaterated position (positions near a line): the reflection of the
+// solution across the positions' principal axis is refuted when its robust misfit (squared
+// residuals capped at the inlier band, in units of the band's sigma band / gate) exceeds the
+// solution's by gate^2: a likelihood-ratio test at the significance of the inlier gate.
+bool mirrorRejected(const std::vector<std::array<double, 2>>& points, const std::vector<double>& ranges_m,
+                    const std::array<double, 2>& beacon_m, double band_m, double gate) {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  for (const auto& p : points) centre += Eigen::Vector2d(p[0], p[1]);
+  centre /= static_cast<double>(points.size());
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
+  for (const auto& p : points) {
+    const Eigen::Vector2d d = Eigen::Vector2d(p[0], p[1]) - centre;
+    covariance += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(covariance);
+  const Eigen::Vector2d axis = eigen.eigenvectors().col(1);
+  const Eigen::Vector2d m(beacon_m[0], beacon_m[1]);
+  const Eigen::Vector2d d = m - centre;
+  const Eigen::Vector2d mirror = centre + 2.0 * d.dot(axis) * axis - d;
+  const double sigma_m = band_m / gate;
+  auto cost = [&](const Eigen::Vector2d& x) {
+    double c = 0.0;
+    for (size_t j = 0; j < points.size(); ++j) {
+      const double e = ranges_m[j] - (x - Eigen::Vector2d(points[j][0], points[j][1])).norm();
+      c += std::min(e * e, band_m * band_m) / (sigma_m * sigma_m);
+    }
+    return c;
+  };
+  return cost(mirror) - cost(m) >= gate * gate;
+}
+
+}  // namespace
+
 void OnlineEmSlam::tryInitialise(int i) {
   Landmark& landmark = landmarks_[i];
   std::vector<Eigen::Vector2d> positions;
@@ -388,19 +423,24 @@ void OnlineEmSlam::tryInitialise(int i) {
     // line fits the mirror image as well (an AUV's first straight lane, hundreds of metres away).
     std::vector<double> sorted = ranges;
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    const double min_spread_m =
-        std::max(config_.init_min_spread_m, config_.init_min_spread_fraction * sorted[sorted.size() / 2]);
+    const double fraction_spread_m = config_.init_min_spread_fraction * sorted[sorted.size() / 2];
     // The shared multilateration (roam::estimation): refused while the positions are near a
     // line; the consensus of triples with the inlier band gate * sr (at least 1 m, for the
     // dead-reckoned positions); gate 0: the linear solution on all ranges.
     std::vector<std::array<double, 2>> points;
     for (const Eigen::Vector2d& p : positions) points.push_back({p.x(), p.y()});
-    if (estimation::positionSpread(points) < min_spread_m) return;
+    // Below init_min_spread_m the position is taken once its mirror image is refuted
+    // (mirrorRejected; the consensus only: gate > 0).
+    const double spread_m = estimation::positionSpread(points);
+    if (spread_m < fraction_spread_m) return;
     const double gate = config_.init_outlier_gate_sigmas;
+    if (spread_m < config_.init_min_spread_m && !(gate > 0.0)) return;
     std::array<double, 2> beacon_m{0.0, 0.0};
-    const bool solved = gate > 0.0 ? estimation::multilaterateTriples(points, ranges, std::max(1.0, gate * sr), &beacon_m)
+    const double band_m = std::max(1.0, gate * sr);
+    const bool solved = gate > 0.0 ? estimation::multilaterateTriples(points, ranges, band_m, &beacon_m)
                                    : estimation::multilaterateLinear(points, ranges, &beacon_m);
     if (!solved) return;
+    if (spread_m < config_.init_min_spread_m && !mirrorRejected(points, ranges, beacon_m, band_m, gate)) return;
     position = Eigen::Vector2d(beacon_m[0], beacon_m[1]);
   }
   if (!position) return;
@@ -693,7 +733,12 @@ void OnlineEmSlam::correctFrame() {
   const double k = config_.frame_bias_significance_sigmas;
   const bool bias_significant =
       k > 0.0 && std::abs(calibration_.heading_rate_bias_rad_s) >= k * heading_rate_bias_sigma_rad_s_;
-  if (!bias_significant && std::abs(angle_rad) < 2.0 * config_.odo_heading_sigma_rad * std::sqrt(static_cast<double>(m))) {
+  // The heading the calibration turns by the window's end counts as well: the landmarks were
+  // placed from the whole window, and a window closed early (a landmark placed once its mirror is
+  // refuted) turns by b T while its least-squares rotation is only about b T / 2.
+  const double heading_noise_rad = 2.0 * config_.odo_heading_sigma_rad * std::sqrt(static_cast<double>(m));
+  const double end_turn_rad = std::remainder(b.z() - a.z(), 2.0 * M_PI);
+  if (!bias_significant && std::abs(angle_rad) < heading_noise_rad && std::abs(end_turn_rad) < heading_noise_rad) {
     angle_rad = 0.0;
     translation_m.setZero();
   } else if (recording_ && heading_rate_bias_sigma_rad_s_ <
