@@ -84,6 +84,8 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
   options.add("init_min_ranges", &c->init_min_ranges, "ranges before multilateration").min(3);
   options.add("init_outlier_gate_sigmas", &c->init_outlier_gate_sigmas,
               "multilateration inlier gate in range sigmas (0: least squares on all)").min(0.0);
+  options.add("init_mirror_test", &c->init_mirror_test,
+              "below init_min_spread_m, place a landmark once its mirror image is refuted and its position determined");
   options.add("init_min_spread_fraction", &c->init_min_spread_fraction,
               "spread of the ranging positions as a fraction of the median range").min(0.0);
   options.add("init_min_spread_m", &c->init_min_spread_m, "spread of the ranging positions").min(0.0);

@@ -361,6 +361,55 @@ double OnlineEmSlam::mixtureLogLikelihood(const RangeObservation& y, double x_m,
   return log_sum;
 }
 
+namespace {
+
+// A multilaterated position from positions near a line (spread under init_min_spread_m) is taken
+// when its mirror image is refuted: the reflection across the positions' principal axis has a
+// robust misfit (squared residuals capped at the inlier band, in units of sigma = the band's
+// sigma band / gate with the dead-reckoned poses' variance added) above the solution's by gate^2,
+// a likelihood-ratio test at the significance of the inlier gate.
+bool mirrorRejected(const std::vector<std::array<double, 2>>& points, const std::vector<double>& ranges_m,
+                    const std::array<double, 2>& beacon_m, double band_m, double gate, double pose_variance_m2) {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  for (const auto& p : points) centre += Eigen::Vector2d(p[0], p[1]);
+  centre /= static_cast<double>(points.size());
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
+  for (const auto& p : points) {
+    const Eigen::Vector2d d = Eigen::Vector2d(p[0], p[1]) - centre;
+    covariance += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(covariance);
+  const Eigen::Vector2d axis = eigen.eigenvectors().col(1);
+  const Eigen::Vector2d m(beacon_m[0], beacon_m[1]);
+  const Eigen::Vector2d d = m - centre;
+  const Eigen::Vector2d mirror = centre + 2.0 * d.dot(axis) * axis - d;
+  const double sigma_m = std::sqrt(band_m * band_m / (gate * gate) + pose_variance_m2);
+  auto cost = [&](const Eigen::Vector2d& x) {
+    double c = 0.0;
+    for (size_t j = 0; j < points.size(); ++j) {
+      const double e = ranges_m[j] - (x - Eigen::Vector2d(points[j][0], points[j][1])).norm();
+      c += std::min(e * e, band_m * band_m) / (sigma_m * sigma_m);
+    }
+    return c;
+  };
+  if (cost(mirror) - cost(m) < gate * gate) return false;
+  // And the position itself is determined to within the inlier band: the standard deviation of
+  // its worst direction, from the inlier ranges' information (unit direction vectors / sigma^2),
+  // is at most the band (a short baseline far from the beacon fits a biased range scale or
+  // offset by moving the position across it).
+  Eigen::Matrix2d information = Eigen::Matrix2d::Zero();
+  for (size_t j = 0; j < points.size(); ++j) {
+    const Eigen::Vector2d u = m - Eigen::Vector2d(points[j][0], points[j][1]);
+    const double r = u.norm();
+    if (!(r > 0.0) || std::abs(ranges_m[j] - r) > band_m) continue;
+    information += (u / r) * (u / r).transpose() / (sigma_m * sigma_m);
+  }
+  const double weakest = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(information).eigenvalues()[0];
+  return weakest > 0.0 && 1.0 / weakest <= band_m * band_m;
+}
+
+}  // namespace
+
 void OnlineEmSlam::tryInitialise(int i) {
   Landmark& landmark = landmarks_[i];
   std::vector<Eigen::Vector2d> positions;
@@ -388,19 +437,36 @@ void OnlineEmSlam::tryInitialise(int i) {
     // line fits the mirror image as well (an AUV's first straight lane, hundreds of metres away).
     std::vector<double> sorted = ranges;
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    const double min_spread_m =
-        std::max(config_.init_min_spread_m, config_.init_min_spread_fraction * sorted[sorted.size() / 2]);
+    const double fraction_spread_m = config_.init_min_spread_fraction * sorted[sorted.size() / 2];
     // The shared multilateration (roam::estimation): refused while the positions are near a
     // line; the consensus of triples with the inlier band gate * sr (at least 1 m, for the
     // dead-reckoned positions); gate 0: the linear solution on all ranges.
     std::vector<std::array<double, 2>> points;
     for (const Eigen::Vector2d& p : positions) points.push_back({p.x(), p.y()});
-    if (estimation::positionSpread(points) < min_spread_m) return;
+    // Below init_min_spread_m the position is taken once its mirror image is refuted
+    // (mirrorRejected; the consensus only: gate > 0).
+    const double spread_m = estimation::positionSpread(points);
+    if (spread_m < fraction_spread_m) return;
     const double gate = config_.init_outlier_gate_sigmas;
+    if (spread_m < config_.init_min_spread_m && !(config_.init_mirror_test && gate > 0.0)) return;
     std::array<double, 2> beacon_m{0.0, 0.0};
-    const bool solved = gate > 0.0 ? estimation::multilaterateTriples(points, ranges, std::max(1.0, gate * sr), &beacon_m)
+    const double band_m = std::max(1.0, gate * sr);
+    const bool solved = gate > 0.0 ? estimation::multilaterateTriples(points, ranges, band_m, &beacon_m)
                                    : estimation::multilaterateLinear(points, ranges, &beacon_m);
     if (!solved) return;
+    if (spread_m < config_.init_min_spread_m) {
+      // The ranges were taken from dead-reckoned mean poses: their residuals carry the cloud's
+      // position spread as well as the range noise (the largest variance of the cloud now).
+      const int n = config_.num_particles;
+      const Eigen::Vector2d mean(particles_.x_m.mean(), particles_.y_m.mean());
+      Eigen::Matrix2d cloud = Eigen::Matrix2d::Zero();
+      for (int k = 0; k < n; ++k) {
+        const Eigen::Vector2d d(particles_.x_m[k] - mean.x(), particles_.y_m[k] - mean.y());
+        cloud += d * d.transpose() / n;
+      }
+      const double cloud_variance_m2 = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cloud).eigenvalues()[1];
+      if (!mirrorRejected(points, ranges, beacon_m, band_m, gate, cloud_variance_m2)) return;
+    }
     position = Eigen::Vector2d(beacon_m[0], beacon_m[1]);
   }
   if (!position) return;
@@ -693,7 +759,12 @@ void OnlineEmSlam::correctFrame() {
   const double k = config_.frame_bias_significance_sigmas;
   const bool bias_significant =
       k > 0.0 && std::abs(calibration_.heading_rate_bias_rad_s) >= k * heading_rate_bias_sigma_rad_s_;
-  if (!bias_significant && std::abs(angle_rad) < 2.0 * config_.odo_heading_sigma_rad * std::sqrt(static_cast<double>(m))) {
+  // The heading the calibration turns by the window's end counts as well: the landmarks were
+  // placed from the whole window, and a window closed early (a landmark placed once its mirror is
+  // refuted) turns by b T while its least-squares rotation is only about b T / 2.
+  const double heading_noise_rad = 2.0 * config_.odo_heading_sigma_rad * std::sqrt(static_cast<double>(m));
+  const double end_turn_rad = std::remainder(b.z() - a.z(), 2.0 * M_PI);
+  if (!bias_significant && std::abs(angle_rad) < heading_noise_rad && (!config_.init_mirror_test || std::abs(end_turn_rad) < heading_noise_rad)) {
     angle_rad = 0.0;
     translation_m.setZero();
   } else if (recording_ && heading_rate_bias_sigma_rad_s_ <
