@@ -30,12 +30,18 @@ void addSpectralOptions(Options& o, SpectralConfig* c) {
   o.add("start_gauge", &c->start_gauge,
         {{"whole_path", StartGaugeMode::kWholePath}, {"first_stretch", StartGaugeMode::kFirstStretch}},
         "start_pose: rotation and translation from the whole run's odometry, or the first align_m");
-  o.add("odo_heading_sigma_rel", &c->odo_heading_sigma_rel, "start_gauge: heading noise, fraction of the turn")
+  o.add("odo_heading_sigma_rel", &c->odo_heading_sigma_rel, "start_gauge, smoothing: heading noise, fraction of the turn")
       .min(0.0);
   o.add("odo_heading_sigma_per_sqrt_m", &c->odo_heading_sigma_per_sqrt_m,
         "start_gauge: heading random walk (rad per sqrt(m))").min(0.0);
   o.add("odo_heading_sigma_rad", &c->odo_heading_sigma_rad, "start_gauge: heading noise floor per step (rad)")
       .min(0.0, false);
+  o.add("smooth_with_odometry", &c->smooth_with_odometry,
+        "fuse the solved positions with the calibrated odometry's step displacements (frame kept)");
+  o.add("odo_distance_sigma_rel", &c->odo_distance_sigma_rel,
+        "smooth_with_odometry: odometry distance noise, fraction of the step").min(0.0);
+  o.add("odo_distance_sigma_m", &c->odo_distance_sigma_m,
+        "smooth_with_odometry: odometry distance noise floor per step (m)").min(0.0, false);
   o.add("calibrate_odometry", &c->calibrate_odometry,
         "estimate the odometry distance scale and gyro bias against the solution, then solve again");
   o.add("gyro_bias_segment_s", &c->gyro_bias_segment_s,

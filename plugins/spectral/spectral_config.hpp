@@ -72,13 +72,24 @@ struct SpectralConfig {
   // seeds; lawn-mower drift: 0.68 vs 0.57 m over 6): the odometry's heading random walk over the
   // first tens of metres bounds the rotation either way (README).
   StartGaugeMode start_gauge = StartGaugeMode::kFirstStretch;
-  // Odometry heading noise of the whole_path gauge: the ekf's and spectral_batch's model and
+  // Odometry heading noise of the whole_path gauge and of smooth_with_odometry: the ekf's and spectral_batch's model and
   // defaults, so estimators are compared on equal terms: per step, variance
   // (rel |turn|)^2 + per_sqrt_m^2 d + floor^2 (a random walk of 0.01 rad per sqrt(metre), ~0.3 rad
   // after a kilometre: wheel odometry). A heading variance the odometry reports raises it.
   double odo_heading_sigma_rel = 0.02;
   double odo_heading_sigma_per_sqrt_m = 0.01;
   double odo_heading_sigma_rad = 0.001;
+
+  // Final step (odometry_smoother.hpp): the solved positions, noise from their own range residuals
+  // (sigma_r sqrt(2 / ranges per pose)), fused with the calibrated odometry's step displacements
+  // turned by the solved headings, by linear least squares; the frame is kept. The solved path's
+  // error sits at periods of ~5-100 s (the windows), where one step of odometry is good to ~1 cm
+  // but a pose's spectral position only to decimetres (README "Round 6"). false: the solve as is.
+  bool smooth_with_odometry = true;
+  // Its odometry distance noise per step, sigma = rel d + floor: the ekf's and spectral_batch's
+  // model and defaults (the heading noise is odo_heading_sigma_*).
+  double odo_distance_sigma_rel = 0.02;
+  double odo_distance_sigma_m = 0.005;
 
   // Estimate the odometry's distance scale and heading-rate (gyro) bias against the spectral
   // solution and solve again with the calibrated odometry (odometry_calibration.hpp). Costs one

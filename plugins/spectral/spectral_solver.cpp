@@ -10,6 +10,7 @@
 
 #include "gap_fill.hpp"
 #include "odometry_calibration.hpp"
+#include "odometry_smoother.hpp"
 #include "start_gauge.hpp"
 #include "thin_svd.hpp"
 
@@ -488,6 +489,7 @@ SpectralSolution solveAtWindow(const SpectralProblem& problem, const SpectralCon
   solution.calibration_chunks = chain->chunks;
   solution.heading_rate_bias_sigma_rad_s = chain->bias_sigma_rad_s;
   solution.calibration = path->calibration;
+  solution.step_bias_rad_s = path->step_bias_rad_s;
   solution.trajectory = assembleTrajectory(*path, pass.measurements.poses, pass.states, config.window_s);
   solution.local_median_residual_m = pass.local_median_m;
   solution.window_outlier_fraction = pass.outlier_fraction;
@@ -534,6 +536,7 @@ SpectralSolution solveAtWindow(const SpectralProblem& problem, const SpectralCon
   }
   solution.trajectory = assembleTrajectory(*path, pass.measurements.poses, pass.states, config.window_s);
   solution.solved_poses = static_cast<int>(pass.measurements.poses.size());
+  solution.solved_pose_indices = pass.measurements.poses;
   solution.state_scale = pass.states.state_scale;
   solution.window_s = config.window_s;
   for (int n = 0; n < N; ++n) {
@@ -627,7 +630,10 @@ SpectralSolution solveWithRetries(const SpectralProblem& problem, const Spectral
 
 }  // namespace
 
-SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config) {
+namespace {
+
+// Steps 1-4 with the retries and the outlier drop.
+SpectralSolution solveUnsmoothed(const SpectralProblem& problem, const SpectralConfig& config) {
   SpectralSolution solution = solveWithRetries(problem, config);
   // Outliers grew the window (the retries): long windows outvote them, but over a long window dead
   // reckoning is no longer a rigid motion of the truth (its heading random-walks), so the learned
@@ -664,6 +670,47 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
     }
   } catch (const InsufficientData&) {
   }
+  return solution;
+}
+
+}  // namespace
+
+SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config) {
+  SpectralSolution solution = solveUnsmoothed(problem, config);
+  if (!config.smooth_with_odometry) return solution;
+  const int T = problem.path.size();
+  const int ranges = static_cast<int>(problem.ranges.size()) - solution.dropped_ranges;
+  // Noise-free ranges leave nothing to smooth (and no residual to scale it by).
+  if (ranges <= 0 || !(solution.median_residual_m > 1e-9) || solution.solved_pose_indices.size() < 2)
+    return solution;
+  const double sigma_p_m = spectralPositionSigma(solution.median_residual_m, static_cast<double>(ranges) / T);
+  SmootherNoise noise;
+  noise.distance_sigma_rel = config.odo_distance_sigma_rel;
+  noise.distance_sigma_m = config.odo_distance_sigma_m;
+  noise.heading_sigma_rel = config.odo_heading_sigma_rel;
+  noise.heading_sigma_per_sqrt_m = config.odo_heading_sigma_per_sqrt_m;
+  noise.heading_sigma_rad = config.odo_heading_sigma_rad;
+  // The headings that turn the increments: the solved path's; rank 7's come from range rates and
+  // scatter from pose to pose, so there the local rotation fit onto the calibrated dead reckoning
+  // (rank 4's headings) is used.
+  std::vector<double> heading_rad(T);
+  for (int k = 0; k < T; ++k) heading_rad[k] = solution.trajectory[k].heading_rad;
+  if (config.rank == 7) {
+    OdometryPath calibrated = problem.path;
+    std::vector<double> bias = solution.step_bias_rad_s;
+    if (bias.empty()) bias.assign(T - 1, solution.calibration.heading_rate_bias_rad_s);
+    calibrated.recalibrate(solution.calibration.distance_scale, bias);
+    const std::vector<int>& poses = solution.solved_pose_indices;
+    Eigen::Matrix2Xd xy_m(2, poses.size());
+    for (size_t j = 0; j < poses.size(); ++j)
+      xy_m.col(j) << solution.trajectory[poses[j]].x_m, solution.trajectory[poses[j]].y_m;
+    const Eigen::VectorXd offset = headingOffsetsFromLocalFit(
+        calibrated, poses, xy_m, static_cast<int64_t>(std::llround(0.5 * solution.window_s * 1e6)));
+    for (size_t j = 0; j < poses.size(); ++j) heading_rad[poses[j]] = calibrated.heading_rad[poses[j]] + offset(j);
+  }
+  smoothWithOdometry(problem.path, heading_rad, solution.solved_pose_indices, solution.calibration.distance_scale,
+                     sigma_p_m, noise, &solution.trajectory);
+  solution.smoothing_position_sigma_m = sigma_p_m;
   return solution;
 }
 

@@ -10,6 +10,8 @@
 //      from a local rotation fit of the learned path onto dead reckoning.
 //   4. Poses the interpolation did not cover (ranging gaps) are bridged by the calibrated dead
 //      reckoning, turned and scaled to meet the solved stretches on both sides (gap_fill.hpp).
+//   5. (smooth_with_odometry) The positions are fused with the calibrated odometry's step
+//      displacements by linear least squares, frame kept (odometry_smoother.hpp).
 #pragma once
 
 #include <optional>
@@ -36,11 +38,14 @@ struct SpectralSolution {
   Path trajectory;  // one pose per pose of the problem's path
   Map beacons;      // learned
   int solved_poses = 0;      // poses with every row of Y (the rest are bridged)
+  std::vector<int> solved_pose_indices;  // which they are (sorted)
+  double smoothing_position_sigma_m = 0.0;  // smooth_with_odometry's sigma_p (0: not smoothed)
   double state_scale = 1.0;  // anchor = beacons: learned X[0] (kappa^2 for ranges scaled by kappa)
   double window_s = 0.0;     // the interpolation window used (effectiveWindowSeconds)
   // The odometry calibration the solution's dead reckoning used (config.calibrate_odometry:
   // estimated against the solution, odometry_calibration.hpp; else s = 1, b = 0).
   estimation::OdometryCalibration calibration;
+  std::vector<double> step_bias_rad_s;  // its gyro bias per step (empty: calibration's throughout)
   double heading_rate_bias_sigma_rad_s = 0.0;  // standard error of the last bias fit
   int calibration_chunks = 0;                  // chunks in the last fit (0: not estimated)
   // Self-check: median |range - |p(t) - m|| over every range for the solution (global) and for

@@ -87,6 +87,9 @@ TEST(OnlineSpectral, AgreesWithBatchAtTheEnd) {
     // The same interpolation for both: online mode uses window_s as given (it must choose its
     // window before the data arrive), so the batch solve's rate-based growth is turned off.
     config.window_ranges_per_beacon = 0.0;
+    // The incremental SVD against the batch SVD: the batch path before its final odometry smoothing
+    // (smooth_with_odometry, which the online solver's running path does not have).
+    config.smooth_with_odometry = false;
     config.mode = SpectralMode::kOnline;
     SpectralSlam online(config);
     feed(online, run);

@@ -1,0 +1,52 @@
+// Final step of the batch solve: the solved positions fused with the calibrated odometry's local
+// displacements (a fixed-interval smoother, solved exactly as sparse linear least squares).
+//
+// Model. Unknowns: the positions p_k of every pose (headings are not estimated: the solved
+// path's theta_k are kept; rank 7 turns the increments by its rank-4-style headings, the local
+// rotation fit of the solved positions onto dead reckoning, as its range-rate headings scatter
+// by ~0.1 rad from pose to pose). Measurements:
+//   z_j = p_j + e_j,  e_j ~ N(0, sigma_p^2 I)       at every solved pose j (the spectral position)
+//   d_k = p_{k+1} - p_k + w_k,  w_k ~ N(0, (sigma_d^2 + l^2 sigma_theta^2) I)
+// with d_k = R(theta_k) (s u_k, s v_k) the calibrated increment of odometry k turned by the solved
+// heading at pose k (roam::estimation::calibratedIncrement), l = |(s u_k, s v_k)|, and the
+// odometry noise of the ekf and spectral_batch (compared on equal terms):
+//   sigma_d = rel l + floor,   sigma_theta^2 = (rel_turn |w_k|)^2 + per_sqrt_m^2 l + floor_rad^2,
+// held isotropic as spectral_batch holds a step's displacement (hypot(sigma_d, l sigma_theta)):
+// the solved heading that turns d_k is itself uncertain by more than one step's sigma_theta.
+// The normal equations are block tridiagonal (2x2 blocks): block Thomas elimination, O(T).
+// sigma_p, the spectral positions' noise, comes from their own range residuals: a pose's
+// position rests on the ranges near it; sigma_r (1.4826 x the solution's median |range residual|)
+// per range along its direction, nu ranges per pose on average, i.e. per axis an information of
+// nu / (2 sigma_r^2): sigma_p = sigma_r sqrt(2 / nu).
+// Frame: the least squares keeps the solved poses' centroid (uniform sigma_p); the smoothed path
+// is then moved by the rigid motion that best fits its solved poses onto the unsmoothed ones, so
+// the gauge (surveyed beacons or start pose) is the solve's, unchanged.
+#pragma once
+
+#include <vector>
+
+#include "odometry_path.hpp"
+#include "roam/types.hpp"
+
+namespace roam::spectral {
+
+struct SmootherNoise {
+  double distance_sigma_rel = 0.02;
+  double distance_sigma_m = 0.005;
+  double heading_sigma_rel = 0.02;
+  double heading_sigma_per_sqrt_m = 0.01;
+  double heading_sigma_rad = 0.001;
+};
+
+// sigma_p from the solution's median |range residual| and the ranges per pose (> 0 both).
+double spectralPositionSigma(double median_range_residual_m, double ranges_per_pose);
+
+// trajectory: one pose per pose of path; heading_rad: per pose, the heading that turns odometry k
+// (the solved path's); solved_poses: the poses that hold a spectral position (sorted, at least
+// 2). distance_scale: the odometry calibration's. Replaces the positions of trajectory; headings
+// and times are kept.
+void smoothWithOdometry(const OdometryPath& path, const std::vector<double>& heading_rad,
+                        const std::vector<int>& solved_poses, double distance_scale,
+                        double position_sigma_m, const SmootherNoise& noise, Path* trajectory);
+
+}  // namespace roam::spectral
