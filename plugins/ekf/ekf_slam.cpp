@@ -277,9 +277,9 @@ estimation::MotionNoise EkfSlam::motionNoise(const Odometry& odo) const {
   noise.heading_rad_per_sqrt_s = 0.0;
   noise.min_sigma_m = std::sqrt(std::pow(config_.odo_distance_sigma_rel * d_m, 2) +
                                 std::pow(config_.odo_distance_sigma_m, 2));
-  noise.min_sigma_rad = std::sqrt(std::pow(config_.odo_heading_sigma_rel * odo.delta_heading_rad, 2) +
-                                  std::pow(config_.odo_heading_sigma_per_sqrt_m, 2) * d_m +
-                                  std::pow(config_.odo_heading_sigma_rad, 2));
+  noise.min_sigma_rad = std::sqrt(estimation::wheelHeadingVariance_rad2(
+      d_m, odo.delta_heading_rad,
+      {config_.odo_heading_sigma_rel, config_.odo_heading_sigma_per_sqrt_m, config_.odo_heading_sigma_rad}));
   noise.use_reported_covariance = true;
   return noise;
 }

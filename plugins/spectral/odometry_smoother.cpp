@@ -42,9 +42,7 @@ void smoothWithOdometry(const OdometryPath& path, const std::vector<double>& hea
     const double c = std::cos(heading_rad[k]), s = std::sin(heading_rad[k]);
     const Vec2 d(c * inc(0) - s * inc(1), s * inc(0) + c * inc(1));
     const double sigma_d = noise.distance_sigma_rel * l + noise.distance_sigma_m;
-    const double var_theta = std::pow(noise.heading_sigma_rel * inc(2), 2) +
-                             noise.heading_sigma_per_sqrt_m * noise.heading_sigma_per_sqrt_m * l +
-                             noise.heading_sigma_rad * noise.heading_sigma_rad;
+    const double var_theta = estimation::wheelHeadingVariance_rad2(l, inc(2), noise.heading);
     W[k] = Mat2::Identity() / (sigma_d * sigma_d + l * l * var_theta);
     D[k] += W[k];
     D[k + 1] += W[k];

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "odometry_path.hpp"
+#include "roam/estimation/motion_model.hpp"
 #include "roam/types.hpp"
 
 namespace roam::spectral {
@@ -33,9 +34,7 @@ namespace roam::spectral {
 struct SmootherNoise {
   double distance_sigma_rel = 0.02;
   double distance_sigma_m = 0.005;
-  double heading_sigma_rel = 0.02;
-  double heading_sigma_per_sqrt_m = 0.01;
-  double heading_sigma_rad = 0.001;
+  estimation::WheelHeadingNoise heading;
 };
 
 // sigma_p from the solution's median |range residual| and the ranges per pose (> 0 both).

@@ -50,9 +50,9 @@ Eigen::VectorXd headingOffsetsFromLocalFit(const OdometryPath& path, const std::
 
 GaugeNoise gaugeNoise(const SpectralConfig& config) {
   GaugeNoise noise;
-  noise.heading_sigma_rel = config.odo_heading_sigma_rel;
-  noise.heading_sigma_per_sqrt_m = config.odo_heading_sigma_per_sqrt_m;
-  noise.heading_sigma_rad = config.odo_heading_sigma_rad;
+  noise.sigma_rel = config.odo_heading_sigma_rel;
+  noise.sigma_per_sqrt_m = config.odo_heading_sigma_per_sqrt_m;
+  noise.sigma_rad = config.odo_heading_sigma_rad;
   return noise;
 }
 
@@ -687,9 +687,7 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
   SmootherNoise noise;
   noise.distance_sigma_rel = config.odo_distance_sigma_rel;
   noise.distance_sigma_m = config.odo_distance_sigma_m;
-  noise.heading_sigma_rel = config.odo_heading_sigma_rel;
-  noise.heading_sigma_per_sqrt_m = config.odo_heading_sigma_per_sqrt_m;
-  noise.heading_sigma_rad = config.odo_heading_sigma_rad;
+  noise.heading = gaugeNoise(config);
   // The headings that turn the increments: the solved path's; rank 7's come from range rates and
   // scatter from pose to pose, so there the local rotation fit onto the calibrated dead reckoning
   // (rank 4's headings) is used.

@@ -21,9 +21,7 @@ StartGauge fitStartGauge(const OdometryPath& path, const std::vector<int>& poses
   // Heading variance accumulated from the start pose to each pose.
   std::vector<double> variance(path.size(), 0.0);
   for (int k = 0; k + 1 < path.size(); ++k) {
-    const double turn = noise.heading_sigma_rel * std::abs(path.turn_rad[k]);
-    double step = turn * turn + noise.heading_sigma_per_sqrt_m * noise.heading_sigma_per_sqrt_m * path.step_m[k] +
-                  noise.heading_sigma_rad * noise.heading_sigma_rad;
+    double step = estimation::wheelHeadingVariance_rad2(path.step_m[k], path.turn_rad[k], noise);
     if (path.odometry[k].hasCovariance()) step = std::max(step, path.odometry[k].covariance[8]);
     variance[k + 1] = variance[k] + step;
   }

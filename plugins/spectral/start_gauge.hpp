@@ -35,15 +35,12 @@
 #include <Eigen/Dense>
 
 #include "odometry_path.hpp"
+#include "roam/estimation/motion_model.hpp"
 
 namespace roam::spectral {
 
-// Odometry heading noise of the gauge fit (the ekf's and spectral_batch's model and defaults).
-struct GaugeNoise {
-  double heading_sigma_rel = 0.02;
-  double heading_sigma_per_sqrt_m = 0.01;
-  double heading_sigma_rad = 0.001;
-};
+// Odometry heading noise of the gauge fit: the ekf's and spectral_batch's model and defaults.
+using GaugeNoise = estimation::WheelHeadingNoise;
 
 struct StartGauge {
   double rotation_rad = 0.0;        // alpha: the rotation that takes the learned path onto the truth

@@ -135,10 +135,8 @@ void odometryRedundancy(ceres::Problem& ceres_problem, const std::vector<ceres::
 std::array<double, 3> odometrySigmas(const SpectralBatchConfig& c, const Odometry& odometry) {
   const double d_m = std::hypot(odometry.forward_m, odometry.lateral_m);
   const double along_m = c.odo_distance_sigma_rel * d_m + c.odo_distance_sigma_m;
-  const double turn = c.odo_heading_sigma_rel * std::abs(odometry.delta_heading_rad);
-  const double heading_rad =
-      std::sqrt(turn * turn + c.odo_heading_sigma_per_sqrt_m * c.odo_heading_sigma_per_sqrt_m * d_m +
-                c.odo_heading_sigma_rad * c.odo_heading_sigma_rad);
+  const double heading_rad = std::sqrt(estimation::wheelHeadingVariance_rad2(
+      d_m, odometry.delta_heading_rad, {c.odo_heading_sigma_rel, c.odo_heading_sigma_per_sqrt_m, c.odo_heading_sigma_rad}));
   const double lateral_m = std::hypot(along_m, d_m * heading_rad);
   return {along_m, lateral_m, heading_rad};
 }

@@ -14,6 +14,8 @@
 // With s = 1, b = 0 and v = 0 this is "move u along the heading, then turn w".
 #pragma once
 
+#include <cmath>
+
 #include <Eigen/Core>
 
 #include "roam/types.hpp"
@@ -55,6 +57,20 @@ struct StepJacobians {
 };
 StepJacobians stepJacobians(const Eigen::Vector3d& pose, const Odometry& odometry, double dt_s,
                             const OdometryCalibration& calibration = {});
+
+// The heading noise of one odometry step under the wheel-odometry model the estimators share
+// (their keys odo_heading_sigma_rel, odo_heading_sigma_per_sqrt_m, odo_heading_sigma_rad): a
+// turn's scale error, a random walk per metre driven, a per-step floor,
+//   var = (sigma_rel |turn|)^2 + sigma_per_sqrt_m^2 d + sigma_rad^2   (rad^2).
+struct WheelHeadingNoise {
+  double sigma_rel = 0.02;
+  double sigma_per_sqrt_m = 0.01;
+  double sigma_rad = 0.001;
+};
+inline double wheelHeadingVariance_rad2(double distance_m, double turn_rad, const WheelHeadingNoise& noise) {
+  const double turn = noise.sigma_rel * std::abs(turn_rad);
+  return turn * turn + noise.sigma_per_sqrt_m * noise.sigma_per_sqrt_m * distance_m + noise.sigma_rad * noise.sigma_rad;
+}
 
 // The increment's noise. Unless the odometry carries its own covariance (and
 // use_reported_covariance), a diagonal from the configured rates: forward and lateral
