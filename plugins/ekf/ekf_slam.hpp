@@ -176,6 +176,7 @@ class EkfSlam : public Estimator {
   bool bias_fixed_ = false;
   bool bias_undecided_ = false;
   int64_t bias_release_step_ = -1;
+  double rerun_bias_var_ = -1.0;  // b's variance at its release in a fresh re-run (< 0: the prior's)
   bool calib_rerun_pending_ = false;  // history kept from the start for one calibrated re-run
   int64_t calibration_reruns_ = 0;
   int64_t fresh_reruns_ = 0;              // of which re-initialised every beacon (rerunWithCalibration)
