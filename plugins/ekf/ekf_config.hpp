@@ -48,6 +48,10 @@ struct EkfConfig {
   // TRAJECTORY: the filtered path smoothed backwards (Rauch-Tung-Striebel, ekf_smoother.hpp);
   // false: the filtered path. POSE messages are the filter's either way.
   bool smooth_trajectory = true;
+  // What the smoother may keep (its operations grow with the run: ~1.5 kB per step with 4
+  // beacons, O(state size)); past it the oldest poses keep their filtered estimate. 256 MB is
+  // ~10 h of a 5 Hz run with 4 beacons.
+  double smooth_max_memory_mb = 256.0;
 
   // Range noise: max(the message's sigma, range_sigma_m) (a stated sigma is a floor, not truth).
   double range_sigma_m = 0.5;

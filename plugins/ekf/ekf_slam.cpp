@@ -64,6 +64,8 @@ void EkfSlam::start(const Pose& pose) {
   path_.clear();
   nodes_.clear();
   trailing_.clear();
+  first_smoothed_ = 0;
+  smoother_bytes_ = 0;
   pushPose(SmootherNode{});
   setState(EstimatorState::kTracking);
   publishDiagnostics();
@@ -245,12 +247,23 @@ void EkfSlam::pushPose(SmootherNode node) {
   if (!config_.smooth_trajectory) return;
   node.pose = filter_.mean().head<3>();
   node.pose_rows = filter_.covariance().topRows(3);
+  smoother_bytes_ += memoryBytes(node);
   nodes_.push_back(std::move(node));
+  // Past smooth_max_memory_mb the oldest nodes are released: their poses stay filtered.
+  const double budget_bytes = config_.smooth_max_memory_mb * 1024.0 * 1024.0;
+  while (static_cast<double>(smoother_bytes_) > budget_bytes && first_smoothed_ + 1 < nodes_.size()) {
+    smoother_bytes_ -= memoryBytes(nodes_[first_smoothed_]);
+    nodes_[first_smoothed_] = SmootherNode{};
+    ++first_smoothed_;
+  }
 }
 
 void EkfSlam::truncatePath(size_t size) {
   path_.resize(size);
-  if (config_.smooth_trajectory) nodes_.resize(size);
+  if (!config_.smooth_trajectory) return;
+  for (size_t k = std::max(size, first_smoothed_); k < nodes_.size(); ++k) smoother_bytes_ -= memoryBytes(nodes_[k]);
+  nodes_.resize(size);
+  first_smoothed_ = std::min(first_smoothed_, size);
 }
 
 Eigen::Matrix3d EkfSlam::scaledMotionNoise(const Eigen::Matrix3d& Q) const {
@@ -853,6 +866,7 @@ void EkfSlam::publishDiagnostics() {
   setDiagnostic("calibration_reruns", static_cast<double>(calibration_reruns_));
   setDiagnostic("calibration_reruns_reinitialised", static_cast<double>(fresh_reruns_));
   setDiagnostic("ranges_gated", static_cast<double>(gated_));
+  setDiagnostic("smoother_unsmoothed_poses", static_cast<double>(first_smoothed_));
   // Above a few percent the filter is fighting its noise model: see gate_probability,
   // range_sigma_m and the odometry sigmas (the rejection reason names the gate).
   const int64_t ranges_seen = rangesAccepted() + rangesRejected();
@@ -900,7 +914,7 @@ void EkfSlam::finish() {
 
 bool EkfSlam::trajectory(bool /*force*/, Path* path) {
   if (path_.empty()) return false;
-  *path = config_.smooth_trajectory ? smoothPath(path_, nodes_, trailing_) : path_;
+  *path = config_.smooth_trajectory ? smoothPath(path_, nodes_, trailing_, first_smoothed_) : path_;
   return true;
 }
 

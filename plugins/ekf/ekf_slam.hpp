@@ -152,6 +152,8 @@ class EkfSlam : public Estimator {
   // those after the last pose (finish()); cut with path_ on every re-run.
   std::vector<SmootherNode> nodes_;
   std::vector<SmootherOperation> trailing_;
+  size_t first_smoothed_ = 0;  // nodes_ before it were released (smooth_max_memory_mb)
+  size_t smoother_bytes_ = 0;  // what nodes_ from first_smoothed_ on hold
   bool map_dirty_ = false;
   std::vector<Initialisation> initialisations_;
   // Each pending beacon's last batch-solve status (STATUS: why it is not initialised).

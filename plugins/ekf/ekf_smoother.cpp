@@ -52,8 +52,15 @@ void backwards(const SmootherOperation& op, Eigen::VectorXd* lambda, Eigen::Matr
 
 }  // namespace
 
+size_t memoryBytes(const SmootherNode& node) {
+  size_t values = static_cast<size_t>(node.pose_rows.size());
+  for (const SmootherOperation& op : node.before)
+    values += static_cast<size_t>(op.A.size() + op.H.size() + op.K.size() + op.S_inverse.size() + op.y.size());
+  return values * sizeof(double) + node.before.size() * sizeof(SmootherOperation);
+}
+
 Path smoothPath(const Path& path, const std::vector<SmootherNode>& nodes,
-                const std::vector<SmootherOperation>& trailing) {
+                const std::vector<SmootherOperation>& trailing, size_t first) {
   if (nodes.size() != path.size())
     throw std::logic_error("ekf smoother: " + std::to_string(nodes.size()) + " nodes for " +
                            std::to_string(path.size()) + " poses");
@@ -61,7 +68,7 @@ Path smoothPath(const Path& path, const std::vector<SmootherNode>& nodes,
   Eigen::VectorXd lambda;
   Eigen::MatrixXd Lambda;
   for (auto op = trailing.rbegin(); op != trailing.rend(); ++op) backwards(*op, &lambda, &Lambda);
-  for (size_t k = nodes.size(); k-- > 0;) {
+  for (size_t k = nodes.size(); k-- > first;) {
     const SmootherNode& node = nodes[k];
     fitTo(static_cast<int>(node.pose_rows.cols()), &lambda, &Lambda);
     const Eigen::Vector3d pose = node.pose + node.pose_rows * lambda;

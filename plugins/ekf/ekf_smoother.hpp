@@ -51,9 +51,14 @@ struct SmootherNode {
 
 // The smoothed path: path[k] (the filtered pose of nodes[k], same times) moved by the backward
 // pass; trailing: operations after the last node (updates at the end of input). Headings are
-// wrapped; each pose's covariance is its smoothed one.
+// wrapped; each pose's covariance is its smoothed one. Poses before `first` (whose nodes were
+// released to bound memory) are the filtered ones; those from `first` on are exactly what the
+// whole pass gives (a pose's smoothed value depends only on the operations after it).
 Path smoothPath(const Path& path, const std::vector<SmootherNode>& nodes,
-                const std::vector<SmootherOperation>& trailing);
+                const std::vector<SmootherOperation>& trailing, size_t first = 0);
+
+// Bytes a node holds (its matrices), for the memory bound.
+size_t memoryBytes(const SmootherNode& node);
 
 }  // namespace ekf
 }  // namespace roam

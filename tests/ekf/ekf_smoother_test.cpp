@@ -141,6 +141,43 @@ TEST(EkfSmoother, SmoothedTrajectoryOnGyroDriftFigure8) {
   }
 }
 
+TEST(EkfSmoother, AMemoryBoundLeavesTheOldestPosesFilteredAndTheRestExact) {
+  // smooth_max_memory_mb: past it the oldest nodes are released. A pose's smoothed value depends
+  // only on the operations after it, so the poses still held must be bit-identical to the whole
+  // pass, and the released ones the filtered path's. 1000 steps with beacons hold ~1.5 MB; 0.4 MB
+  // keeps roughly the last quarter (measured: 728 of 1001 poses released).
+  const sim::SimRun run = sim::simulate(sim::gyroDriftFigure8World(301, 1000));
+  EkfConfig config;
+  config.anchor = EkfConfig::Anchor::kBeacons;
+  EkfSlam whole(config);
+  test::feed(run, whole);
+  config.smooth_max_memory_mb = 0.4;
+  EkfSlam bounded(config);
+  test::feed(run, bounded);
+  Path all, part;
+  ASSERT_TRUE(whole.trajectory(true, &all));
+  ASSERT_TRUE(bounded.trajectory(true, &part));
+  ASSERT_EQ(all.size(), part.size());
+  const double released = bounded.diagnostics().at("smoother_unsmoothed_poses");
+  const size_t first = static_cast<size_t>(released);
+  std::printf("released %zu of %zu poses\n", first, part.size());
+  EXPECT_GT(first, part.size() / 4);
+  EXPECT_LT(first, part.size() - part.size() / 10);
+  for (size_t k = 0; k < part.size(); ++k) {
+    const Pose& expected = k < first ? bounded.path()[k] : all[k];
+    ASSERT_EQ(part[k].x_m, expected.x_m) << "pose " << k;
+    ASSERT_EQ(part[k].y_m, expected.y_m) << "pose " << k;
+  }
+  EXPECT_NE(all[first / 2].x_m, bounded.path()[first / 2].x_m);  // smoothing moved the released poses
+  config.smooth_max_memory_mb = 0.0;
+  try {
+    EkfSlam refused{config};
+    FAIL() << "expected a ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), "smooth_max_memory_mb");
+  }
+}
+
 }  // namespace
 }  // namespace ekf
 }  // namespace roam
