@@ -30,6 +30,8 @@ void addSpectralOptions(Options& o, SpectralConfig* c) {
   o.add("start_gauge", &c->start_gauge,
         {{"whole_path", StartGaugeMode::kWholePath}, {"first_stretch", StartGaugeMode::kFirstStretch}},
         "start_pose: rotation and translation from the whole run's odometry, or the first align_m");
+  o.add("gauge_about_start", &c->gauge_about_start,
+        "start_pose: pose 0 on the start, the path turned about it onto the first align_m of dead reckoning");
   o.add("odo_heading_sigma_rel", &c->odo_heading_sigma_rel, "start_gauge, smoothing: heading noise, fraction of the turn")
       .min(0.0);
   o.add("odo_heading_sigma_per_sqrt_m", &c->odo_heading_sigma_per_sqrt_m,

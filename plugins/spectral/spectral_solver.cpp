@@ -675,14 +675,86 @@ SpectralSolution solveUnsmoothed(const SpectralProblem& problem, const SpectralC
 
 }  // namespace
 
+namespace {
+
+// anchor = start_pose, gauge_about_start: spectral_batch's window gauge on the published path.
+// Pose 0 is put on the start position and the path turned about it by the rotation that best
+// aligns its displacements from pose 0 over the first align_m onto the calibrated dead reckoning
+// from the start pose (least squares, closed form in 2-D). Rotation about the start, not about the
+// stretch's centroid: dead reckoning from the start pose is exact at the start, and the direction
+// of a displacement from it carries the heading error averaged along the way (variance L s^2 / 3
+// for a random walk s^2 per metre), where a fit with the translation free follows the stretch's
+// own turn (README "Round 7"). Dead reckoning with the run's time-weighted mean gyro bias: the
+// first calibration segment's slope is one-sided at the start (README "Round 6": off by up to
+// 9e-4 rad/s there), the mean is known to ~2e-5 rad/s. As in upgradeStates, the raw odometry
+// where that calibration turns the stretch by < 0.05 rad on average.
+void gaugeAboutStart(const SpectralProblem& problem, const SpectralConfig& config, SpectralSolution* solution) {
+  const int T = problem.path.size();
+  Path& path = solution->trajectory;
+  if (T < 2 || static_cast<int>(path.size()) != T) return;
+  OdometryPath calibrated = problem.path;
+  calibrated.recalibrate(solution->calibration.distance_scale,
+                         std::vector<double>(T - 1, solution->calibration.heading_rate_bias_rad_s));
+  const OdometryPath* dead_reckoned = &calibrated;
+  {
+    constexpr double kNegligibleTurn_rad = 0.05;
+    double turn_rad = 0.0, distance_m = 0.0;
+    int count = 0;
+    for (int k = 0; k < T && distance_m <= config.align_m; ++k) {
+      turn_rad += std::abs(calibrated.heading_rad[k] - problem.path.heading_rad[k]);
+      ++count;
+      if (k + 1 < T) distance_m += calibrated.step_m[k];
+    }
+    if (turn_rad / count < kNegligibleTurn_rad) dead_reckoned = &problem.path;
+  }
+  const double sx = dead_reckoned->x_m[0], sy = dead_reckoned->y_m[0];
+  const double ox = path[0].x_m, oy = path[0].y_m;
+  double dot = 0.0, cross = 0.0, distance_m = 0.0;
+  for (int k = 1; k < T && distance_m <= config.align_m; ++k) {
+    distance_m += dead_reckoned->step_m[k - 1];
+    const double px = path[k].x_m - ox, py = path[k].y_m - oy;
+    const double dx = dead_reckoned->x_m[k] - sx, dy = dead_reckoned->y_m[k] - sy;
+    dot += px * dx + py * dy;
+    cross += px * dy - py * dx;
+  }
+  if (dot == 0.0 && cross == 0.0) return;  // no travel: the solve's frame stays
+  const double angle = std::atan2(cross, dot), c = std::cos(angle), s = std::sin(angle);
+  auto move = [&](double* x, double* y) {
+    const double rx = *x - ox, ry = *y - oy;
+    *x = sx + c * rx - s * ry;
+    *y = sy + s * rx + c * ry;
+  };
+  for (Pose& pose : path) {
+    move(&pose.x_m, &pose.y_m);
+    pose.heading_rad = wrapAngle(pose.heading_rad + angle);
+  }
+  for (Beacon& beacon : solution->beacons) move(&beacon.x_m, &beacon.y_m);
+}
+
+}  // namespace
+
+namespace {
+void smoothSolution(const SpectralProblem& problem, const SpectralConfig& config, SpectralSolution* out);
+}  // namespace
+
 SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config) {
   SpectralSolution solution = solveUnsmoothed(problem, config);
-  if (!config.smooth_with_odometry) return solution;
+  smoothSolution(problem, config, &solution);
+  if (config.anchor == SpectralAnchor::kStartPose && config.gauge_about_start)
+    gaugeAboutStart(problem, config, &solution);
+  return solution;
+}
+
+namespace {
+
+void smoothSolution(const SpectralProblem& problem, const SpectralConfig& config, SpectralSolution* out) {
+  SpectralSolution& solution = *out;
+  if (!config.smooth_with_odometry) return;
   const int T = problem.path.size();
   const int ranges = static_cast<int>(problem.ranges.size()) - solution.dropped_ranges;
   // Noise-free ranges leave nothing to smooth (and no residual to scale it by).
   if (ranges <= 0 || !(solution.median_residual_m > 1e-9) || solution.solved_pose_indices.size() < 2)
-    return solution;
+    return;
   const double sigma_p_m = spectralPositionSigma(solution.median_residual_m, static_cast<double>(ranges) / T);
   SmootherNoise noise;
   noise.distance_sigma_rel = config.odo_distance_sigma_rel;
@@ -709,7 +781,8 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
   smoothWithOdometry(problem.path, heading_rad, solution.solved_pose_indices, solution.calibration.distance_scale,
                      sigma_p_m, noise, &solution.trajectory);
   solution.smoothing_position_sigma_m = sigma_p_m;
-  return solution;
 }
+
+}  // namespace
 
 }  // namespace roam::spectral
