@@ -13,6 +13,7 @@
 #include "odometry_smoother.hpp"
 #include "start_gauge.hpp"
 #include "thin_svd.hpp"
+#include "roam/estimation/rotation_about_start.hpp"
 
 namespace roam::spectral {
 namespace {
@@ -707,18 +708,17 @@ void gaugeAboutStart(const SpectralProblem& problem, const SpectralConfig& confi
     }
     if (turn_rad / count < kNegligibleTurn_rad) dead_reckoned = &problem.path;
   }
+  std::vector<std::array<double, 2>> solved_m, reference_m;
+  for (int k = 0; k < T; ++k) {
+    solved_m.push_back({path[k].x_m, path[k].y_m});
+    reference_m.push_back({dead_reckoned->x_m[k], dead_reckoned->y_m[k]});
+  }
+  const std::vector<double> step_m(dead_reckoned->step_m.begin(), dead_reckoned->step_m.begin() + (T - 1));
+  const estimation::StartRotation fit = estimation::fitRotationAboutStart(solved_m, reference_m, step_m, config.align_m);
+  if (!fit.defined) return;  // no travel: the solve's frame stays
   const double sx = dead_reckoned->x_m[0], sy = dead_reckoned->y_m[0];
   const double ox = path[0].x_m, oy = path[0].y_m;
-  double dot = 0.0, cross = 0.0, distance_m = 0.0;
-  for (int k = 1; k < T && distance_m <= config.align_m; ++k) {
-    distance_m += dead_reckoned->step_m[k - 1];
-    const double px = path[k].x_m - ox, py = path[k].y_m - oy;
-    const double dx = dead_reckoned->x_m[k] - sx, dy = dead_reckoned->y_m[k] - sy;
-    dot += px * dx + py * dy;
-    cross += px * dy - py * dx;
-  }
-  if (dot == 0.0 && cross == 0.0) return;  // no travel: the solve's frame stays
-  const double angle = std::atan2(cross, dot), c = std::cos(angle), s = std::sin(angle);
+  const double angle = fit.angle_rad, c = std::cos(angle), s = std::sin(angle);
   auto move = [&](double* x, double* y) {
     const double rx = *x - ox, ry = *y - oy;
     *x = sx + c * rx - s * ry;
@@ -731,21 +731,6 @@ void gaugeAboutStart(const SpectralProblem& problem, const SpectralConfig& confi
   for (Beacon& beacon : solution->beacons) move(&beacon.x_m, &beacon.y_m);
 }
 
-}  // namespace
-
-namespace {
-void smoothSolution(const SpectralProblem& problem, const SpectralConfig& config, SpectralSolution* out);
-}  // namespace
-
-SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config) {
-  SpectralSolution solution = solveUnsmoothed(problem, config);
-  smoothSolution(problem, config, &solution);
-  if (config.anchor == SpectralAnchor::kStartPose && config.gauge_about_start)
-    gaugeAboutStart(problem, config, &solution);
-  return solution;
-}
-
-namespace {
 
 void smoothSolution(const SpectralProblem& problem, const SpectralConfig& config, SpectralSolution* out) {
   SpectralSolution& solution = *out;
@@ -784,5 +769,13 @@ void smoothSolution(const SpectralProblem& problem, const SpectralConfig& config
 }
 
 }  // namespace
+
+SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config) {
+  SpectralSolution solution = solveUnsmoothed(problem, config);
+  smoothSolution(problem, config, &solution);
+  if (config.anchor == SpectralAnchor::kStartPose && config.gauge_about_start)
+    gaugeAboutStart(problem, config, &solution);
+  return solution;
+}
 
 }  // namespace roam::spectral

@@ -12,6 +12,7 @@
 #include "initial_guess.hpp"
 #include "roam/estimation/multilateration.hpp"
 #include "roam/estimation/range_model.hpp"
+#include "roam/estimation/rotation_about_start.hpp"
 #include "spectral_seed.hpp"
 
 namespace roam {
@@ -354,19 +355,20 @@ void SpectralBatchSlam::alignRotationToOdometry(spectral_batch::State* state) {
   // positions over the first gauge_align_m of travel to the calibrated dead reckoning from the
   // start pose. Calibrated: with the gyro bias removed, the first metres of odometry are better
   // than one start heading, and far better than a spectral seed fitted to biased odometry.
-  std::vector<std::array<double, 3>>& poses = state->poses;
+  const std::vector<std::array<double, 3>>& poses = state->poses;
   const estimation::OdometryCalibration calibration{state->odometry_calibration[0], state->odometry_calibration[1]};
   const std::vector<std::array<double, 3>> dr = spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, calibration);
-  double dot = 0.0, cross = 0.0, travelled_m = 0.0;
-  for (size_t k = 1; k < poses.size() && travelled_m <= config_.gauge_align_m; ++k) {
-    travelled_m += std::hypot(odometry_[k - 1].forward_m, odometry_[k - 1].lateral_m);
-    const double px = poses[k][0] - poses[0][0], py = poses[k][1] - poses[0][1];
-    const double dx = dr[k][0] - dr[0][0], dy = dr[k][1] - dr[0][1];
-    dot += px * dx + py * dy;
-    cross += px * dy - py * dx;
+  std::vector<std::array<double, 2>> solved_m, reference_m;
+  std::vector<double> step_m;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    solved_m.push_back({poses[k][0], poses[k][1]});
+    reference_m.push_back({dr[k][0], dr[k][1]});
+    if (k > 0) step_m.push_back(std::hypot(odometry_[k - 1].forward_m, odometry_[k - 1].lateral_m));
   }
-  if (travelled_m < 0.5 * config_.gauge_align_m || std::hypot(dot, cross) <= 0.0) return;
-  rotateAboutStart(state, std::atan2(cross, dot));
+  const estimation::StartRotation fit =
+      estimation::fitRotationAboutStart(solved_m, reference_m, step_m, config_.gauge_align_m);
+  if (fit.travelled_m < 0.5 * config_.gauge_align_m || !fit.defined) return;
+  rotateAboutStart(state, fit.angle_rad);
 }
 
 void SpectralBatchSlam::rotateAboutStart(spectral_batch::State* state, double angle_rad) {
