@@ -127,21 +127,13 @@ void EkfSlam::addOdometry(const Odometry& odometry) {
                                      [&](const Range& r) { return r.utime <= odometry.utime; });
   step.ranges.assign(waiting_.begin(), later);
   waiting_.erase(waiting_.begin(), later);
-  step.before = filter_;
-  step.before_utime = state_utime_;
-  step.path_size = path_.size();
   step.standstill = confirmStandstill(odometry, std::max<int64_t>(0, odometry.utime - state_utime_) * 1e-6);
   if (step.standstill && bias_undecided_) {
     // A confirmed standstill observes the bias directly (zero-rate update), whatever the ranges.
     bias_undecided_ = false;
     bias_release_step_ = step.index;
   }
-  runStep(step, true);
-  acceptOdometry();
-  history_.push_back(std::move(step));
-  initialiseReadyBeacons();
-  rerunWithCalibration();
-  prune();
+  advance(std::move(step), true);
 
   emitPose(path_.back());
   if (map_dirty_) emitMap(currentMap());
@@ -240,6 +232,21 @@ void EkfSlam::runStep(const Step& step, bool live) {
   state_utime_ = t1;
   filter_.record(nullptr);
   pushPose(std::move(node));
+}
+
+void EkfSlam::advance(Step step, bool live) {
+  // One new step, live (addOdometry) or on the fresh re-run (reinitialiseFromStart): the
+  // snapshot a roll-back returns to, the step, and the beacons it made ready. Only a live step
+  // counts as accepted and may start the calibrated re-run (which, being one, runs once).
+  step.before = filter_;
+  step.before_utime = state_utime_;
+  step.path_size = path_.size();
+  runStep(step, live);
+  if (live) acceptOdometry();
+  history_.push_back(std::move(step));
+  initialiseReadyBeacons();
+  if (live) rerunWithCalibration();
+  prune();
 }
 
 void EkfSlam::pushPose(SmootherNode node) {
@@ -764,13 +771,7 @@ void EkfSlam::reinitialiseFromStart() {
     step.odometry = previous.odometry;
     step.ranges = std::move(previous.ranges);
     step.standstill = previous.standstill;
-    step.before = filter_;
-    step.before_utime = state_utime_;
-    step.path_size = path_.size();
-    runStep(step, false);
-    history_.push_back(std::move(step));
-    initialiseReadyBeacons();
-    prune();
+    advance(std::move(step), false);
   }
   ++replays_;
 }

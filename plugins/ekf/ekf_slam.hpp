@@ -103,6 +103,7 @@ class EkfSlam : public Estimator {
   void start(const Pose& pose);
   void insertSurveyed();
   void runStep(const Step& step, bool live);
+  void advance(Step step, bool live);  // snapshot, runStep, keep in history_, initialise ready beacons
   void handleRange(const Range& range, int64_t step_index, bool live);
   void initialiseReadyBeacons();
   std::vector<Sighting> consensusSightings(const std::vector<Sighting>& sightings, const RangeBiasPrior& bias) const;
