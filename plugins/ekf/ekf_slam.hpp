@@ -111,6 +111,9 @@ class EkfSlam : public Estimator {
   MultilaterationResult trimmedSolve(const std::vector<Sighting>& sightings, const RangeBiasPrior& bias,
                                      std::vector<Sighting>* used) const;
   bool biasConsistent(const MultilaterationResult& solve, const RangeBiasPrior& bias) const;
+  MultilaterationResult dropDeletedOutliers(MultilaterationResult solve, const RangeBiasPrior& bias, std::vector<Sighting>* used) const;
+  size_t mostInformative(const MultilaterationResult& solve, const std::vector<Sighting>& used, const RangeBiasPrior& bias) const;
+  double deletedResidualZ2(const std::vector<Sighting>& used, size_t i, size_t also_out, const RangeBiasPrior& bias) const;
   void rollbackAndInsert(int id, const MultilaterationResult& solve, std::vector<Sighting> used);
   void replayFrom(int64_t offset, int64_t first_step);
   void rerunWithCalibration();
