@@ -469,6 +469,17 @@ void EkfSlam::initialiseReadyBeacons() {
         }
         buffer = &corrected;
       }
+      // On the fresh re-run (reinitialiseFromStart) the ranges that the first pass's solve of
+      // this beacon left out stay out: whether a range is NLOS does not depend on the poses'
+      // calibration, and the first pass judged it against more sightings (nlosw 301: the re-run
+      // solved beacon 2 from 16 sightings with the first pass's excluded NLOS range at the end of
+      // its arc, its deleted residual 3.2 sigma, just inside the gate, and placed it 5.2 m off).
+      std::vector<Sighting> judged;
+      if (!first_pass_excluded_.empty()) {
+        for (const Sighting& sg : *buffer)
+          if (!first_pass_excluded_.count({id, sg.utime})) judged.push_back(sg);
+        buffer = &judged;
+      }
       // The consensus' sightings first (as before); if their solve fails or explains its
       // outliers by the range bias, the trimmed solve over all sightings (trimmedSolve).
       std::vector<Sighting> used = consensusSightings(*buffer, bias);
@@ -861,6 +872,7 @@ void EkfSlam::reinitialiseFromStart() {
   next_step_ = old.front().index;
   pending_.clear();  // empty (the re-run waits for every beacon), as pending_live_ranges_
   touched_.clear();
+  first_pass_excluded_ = std::move(excluded_ranges_);  // the first pass's verdicts, for the solves
   excluded_ranges_.clear();
   last_solve_.clear();
   last_trim_size_.clear();

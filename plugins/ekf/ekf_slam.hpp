@@ -167,6 +167,7 @@ class EkfSlam : public Estimator {
   int64_t replays_ = 0;
   // Buffered ranges (beacon, time) its batch solution did not explain: not re-applied.
   std::set<std::pair<int, int64_t>> excluded_ranges_;
+  std::set<std::pair<int, int64_t>> first_pass_excluded_;  // excluded_ranges_ of the pass before a fresh re-run
   int64_t excluded_ranges_total_ = 0;
   int64_t gated_ = 0;
   int gated_in_row_ = 0;              // ranges to known beacons gated since the last applied one
