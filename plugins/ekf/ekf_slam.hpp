@@ -27,7 +27,10 @@
 // instead fixes its error into the frame. With range-bias states the batch estimates scale and
 // offset too (prior: the filter's marginal); for the first beacon, while the bias is still at its
 // prior, the snapshot's bias mean is re-centred on the batch estimate (its width unchanged), so
-// the re-run linearises s |m - p| + b about a consistent pair. The published TRAJECTORY is the
+// the re-run linearises s |m - p| + b about a consistent pair. A solve is used only once each of
+// its ranges is predicted by the others (deleted residual within the gate, also with the solve's
+// most informative range left out): one outlier at the end of a narrow arc cannot place the
+// beacon. The published TRAJECTORY is the
 // filtered path after these re-runs, smoothed backwards (smooth_trajectory, ekf_smoother.hpp);
 // POSE messages are the filter's and those already published are not revised. History
 // is kept only while a beacon is pending (bounded by init_max_ranges and init_window_s).
