@@ -27,7 +27,10 @@
 // instead fixes its error into the frame. With range-bias states the batch estimates scale and
 // offset too (prior: the filter's marginal); for the first beacon, while the bias is still at its
 // prior, the snapshot's bias mean is re-centred on the batch estimate (its width unchanged), so
-// the re-run linearises s |m - p| + b about a consistent pair. The published TRAJECTORY is the
+// the re-run linearises s |m - p| + b about a consistent pair. A solve is used only once each of
+// its ranges is predicted by the others (deleted residual within the gate, also with the solve's
+// most informative range left out): one outlier at the end of a narrow arc cannot place the
+// beacon. The published TRAJECTORY is the
 // filtered path after these re-runs, smoothed backwards (smooth_trajectory, ekf_smoother.hpp);
 // POSE messages are the filter's and those already published are not revised. History
 // is kept only while a beacon is pending (bounded by init_max_ranges and init_window_s).
@@ -103,6 +106,7 @@ class EkfSlam : public Estimator {
   void start(const Pose& pose);
   void insertSurveyed();
   void runStep(const Step& step, bool live);
+  void advance(Step step, bool live);  // snapshot, runStep, keep in history_, initialise ready beacons
   void handleRange(const Range& range, int64_t step_index, bool live);
   void initialiseReadyBeacons();
   std::vector<Sighting> consensusSightings(const std::vector<Sighting>& sightings, const RangeBiasPrior& bias) const;
@@ -110,6 +114,9 @@ class EkfSlam : public Estimator {
   MultilaterationResult trimmedSolve(const std::vector<Sighting>& sightings, const RangeBiasPrior& bias,
                                      std::vector<Sighting>* used) const;
   bool biasConsistent(const MultilaterationResult& solve, const RangeBiasPrior& bias) const;
+  MultilaterationResult dropDeletedOutliers(MultilaterationResult solve, const RangeBiasPrior& bias, std::vector<Sighting>* used) const;
+  size_t mostInformative(const MultilaterationResult& solve, const std::vector<Sighting>& used, const RangeBiasPrior& bias) const;
+  double deletedResidualZ2(const std::vector<Sighting>& used, size_t i, size_t also_out, const RangeBiasPrior& bias) const;
   void rollbackAndInsert(int id, const MultilaterationResult& solve, std::vector<Sighting> used);
   void replayFrom(int64_t offset, int64_t first_step);
   void rerunWithCalibration();
@@ -163,6 +170,7 @@ class EkfSlam : public Estimator {
   int64_t replays_ = 0;
   // Buffered ranges (beacon, time) its batch solution did not explain: not re-applied.
   std::set<std::pair<int, int64_t>> excluded_ranges_;
+  std::set<std::pair<int, int64_t>> first_pass_excluded_;  // excluded_ranges_ of the pass before a fresh re-run
   int64_t excluded_ranges_total_ = 0;
   int64_t gated_ = 0;
   int gated_in_row_ = 0;              // ranges to known beacons gated since the last applied one
