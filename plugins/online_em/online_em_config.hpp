@@ -224,6 +224,14 @@ struct OnlineEmConfig {
   // 1.32), but plaza1-drpath's start pose goes 0.67 -> 1.48 m (its odometry heading is off near
   // the start, and its UWB ranges 6 % long: a short baseline fits them by moving the beacon).
   bool init_mirror_test = false;
+  // anchor = start_pose, ranges dense (the heading-rate bias rule): when the early window closes
+  // (every landmark seen so far placed), solve the window's path and map jointly (window_solve.hpp:
+  // the path's heading random walk in blocks of init_window_block_s, a heading-rate bias with
+  // its prior, the ranges through the learned mixture) and replace the multilaterated map, the
+  // window's path and the particles' frame with it.
+  bool init_window_solve = true;
+  double init_window_block_s = 5.0;
+  bool init_window_bias = false;
   // Multilateration robust to outliers: every triple of ranges proposes a position; the one
   // with the most ranges within gate * sr (the range's sigma, or range_sigma_m; at least 1 m)
   // wins and is refined on them. 3 sigma: a Gaussian inlier passes with 99.7 %. (Widening the

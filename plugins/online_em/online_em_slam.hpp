@@ -104,6 +104,7 @@
 #include "particle_motion.hpp"
 #include "observation_model.hpp"
 #include "online_em_config.hpp"
+#include "window_solve.hpp"
 #include "roam/estimator.hpp"
 
 namespace roam {
@@ -181,6 +182,7 @@ class OnlineEmSlam : public Estimator {
   void correctFrame();
   void applyFrameMotion(double angle_rad, const Eigen::Vector2d& translation_m);
   void rerun();
+  void solveEarlyWindow();
   void processOdometry(const Odometry& odometry);
   void publish(int64_t utime);
 
@@ -214,6 +216,10 @@ class OnlineEmSlam : public Estimator {
   double frame_angle_rad_ = 0.0;
   Eigen::Vector2d frame_translation_m_ = Eigen::Vector2d::Zero();
   std::vector<Range> queued_ranges_;
+  // The window's range-only ranges (solveEarlyWindow) and their observations.
+  std::vector<WindowRange> window_ranges_;
+  std::vector<RangeObservation> window_observations_;
+  bool window_solve_pending_ = false;
   // Calibrated re-run: the inputs in arrival order until it runs, and its state.
   struct Input {
     bool is_odometry = true;
