@@ -86,6 +86,11 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
               "multilateration inlier gate in range sigmas (0: least squares on all)").min(0.0);
   options.add("init_mirror_test", &c->init_mirror_test,
               "below init_min_spread_m, place a landmark once its mirror image is refuted and its position determined");
+  options.add("init_window_solve", &c->init_window_solve,
+              "start pose: solve the early window's path and map jointly when the map is first placed");
+  options.add("init_window_block_s", &c->init_window_block_s,
+              "window solve: heading-walk block length").min(0.0, false);
+  options.add("init_window_bias", &c->init_window_bias, "window solve: a heading-rate bias in the window");
   options.add("init_min_spread_fraction", &c->init_min_spread_fraction,
               "spread of the ranging positions as a fraction of the median range").min(0.0);
   options.add("init_min_spread_m", &c->init_min_spread_m, "spread of the ranging positions").min(0.0);

@@ -224,6 +224,21 @@ struct OnlineEmConfig {
   // 1.32), but plaza1-drpath's start pose goes 0.67 -> 1.48 m (its odometry heading is off near
   // the start, and its UWB ranges 6 % long: a short baseline fits them by moving the beacon).
   bool init_mirror_test = false;
+  // anchor = start_pose, ranges dense (the heading-rate bias rule): when the early window closes
+  // (every landmark seen so far placed), solve the window's path and map jointly (window_solve.hpp:
+  // the path's heading random walk in blocks of init_window_block_s with the shared wheel model's
+  // variance, the range scale with its prior, the ranges through the learned mixture) and replace
+  // the multilaterated map, the window's path, the particles' frame and the landmark statistics
+  // with it, where the ranges refute the dead-reckoned window (twice the log-posterior gain over
+  // the same solve with the path held >= init_outlier_gate_sigmas^2). 30 % NLOS start pose, seeds
+  // 301-310: mean 0.96 -> 0.54 m; Plaza 1 gains 6-8: not applied.
+  bool init_window_solve = true;
+  // 5 s at 1 m/s: the walk within a block moves the path ~5 cm, under the range noise.
+  double init_window_block_s = 5.0;
+  // A heading-rate bias unknown in the window. Off: a vehicle standing still first (Plaza 1) makes
+  // b t a free rotation of the frame (Plaza 1 start pose 1.01 -> 4.05 m); the calibration's frame
+  // correction and re-run handle the bias.
+  bool init_window_bias = false;
   // Multilateration robust to outliers: every triple of ranges proposes a position; the one
   // with the most ranges within gate * sr (the range's sigma, or range_sigma_m; at least 1 m)
   // wins and is refined on them. 3 sigma: a Gaussian inlier passes with 99.7 %. (Widening the

@@ -215,6 +215,17 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
                                         static_cast<double>(odometry.utime - step_start_utime), 0.0, 1.0)
                        : 1.0;
     Landmark& landmark = landmarks_[i];
+    if (window_open_ && config_.init_window_solve && config_.anchor == OnlineEmConfig::Anchor::kStartPose &&
+        !obs.y.has_bearing) {
+      WindowRange w;
+      w.landmark = i;
+      w.step = static_cast<int>(window_odometry_.size()) - 1;
+      w.fraction = obs.fraction;
+      w.range_m = obs.y.range_m;
+      w.sigma_m = obs.y.sigma_m > 0.0 ? obs.y.sigma_m : config_.range_sigma_m;
+      window_ranges_.push_back(w);
+      window_observations_.push_back(obs.y);
+    }
     if (!landmark.initialised) {
       // Buffer at the particle-mean pose for multilateration.
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -294,6 +305,7 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
 
   last_utime_ = odometry.utime;
   publish(odometry.utime);
+  if (window_solve_pending_) solveEarlyWindow();
 }
 
 void OnlineEmSlam::smoothStatistics(std::vector<StepObservation>& observations) {
@@ -493,7 +505,13 @@ void OnlineEmSlam::tryInitialise(int i) {
   landmark.pending_observations.clear();
   int initialised = 0;
   for (const Landmark& l : landmarks_) initialised += l.initialised ? 1 : 0;
-  if (initialised >= 2 && initialised == static_cast<int>(landmarks_.size())) window_open_ = false;
+  if (initialised >= 2 && initialised == static_cast<int>(landmarks_.size())) {
+    window_open_ = false;
+    // The window solve where the ranges re-fix the path often enough (the bias rule).
+    window_solve_pending_ = config_.init_window_solve && config_.anchor == OnlineEmConfig::Anchor::kStartPose &&
+                            (bias_state_ == BiasState::kEstimated ||
+                             (bias_state_ == BiasState::kUndecided && ranges_dense_so_far_));
+  }
   mStep();
 }
 
@@ -841,6 +859,8 @@ void OnlineEmSlam::rerun() {
   path_.clear();
   window_odometry_.clear();
   window_dt_s_.clear();
+  window_ranges_.clear();
+  window_observations_.clear();
   window_open_ = true;
   frame_angle_rad_ = 0.0;
   frame_translation_m_.setZero();
@@ -861,6 +881,127 @@ void OnlineEmSlam::rerun() {
   setDiagnostic("frame_correction_rad", 0.0);
   setDiagnostic("calibrated_rerun_inputs", static_cast<double>(inputs.size()));
   setDiagnostic("calibrated_rerun_bias_rad_s", learned.heading_rate_bias_rad_s);
+  emitMap(currentMap());
+}
+
+void OnlineEmSlam::solveEarlyWindow() {
+  window_solve_pending_ = false;
+  const int m = static_cast<int>(window_odometry_.size());
+  if (static_cast<int>(path_.size()) != m + 1 || window_ranges_.empty()) return;
+  WindowProblem problem;
+  for (const Pose& pose : path_) {
+    problem.path.emplace_back(pose.x_m, pose.y_m, pose.heading_rad);
+    problem.time_s.push_back(1e-6 * static_cast<double>(pose.utime - path_.front().utime));
+  }
+  std::vector<int> solve_index(landmarks_.size(), -1);
+  std::vector<int> landmark_of;
+  for (int i = 0; i < static_cast<int>(landmarks_.size()); ++i) {
+    if (!landmarks_[i].initialised) continue;
+    solve_index[i] = static_cast<int>(landmark_of.size());
+    landmark_of.push_back(i);
+    problem.landmarks_m.push_back(landmarks_[i].position_m);
+  }
+  for (WindowRange r : window_ranges_) {
+    if (solve_index[r.landmark] < 0) continue;
+    r.landmark = solve_index[r.landmark];
+    problem.ranges.push_back(r);
+  }
+  problem.range_scale = range_scale_;
+  problem.range_offset_m = range_offset_m_;
+  if (config_.estimate_range_scale) problem.range_scale_prior_sigma = config_.range_scale_prior_sigma;
+  // The heading walk of the shared wheel-odometry model (estimation::WheelHeadingNoise, its
+  // defaults): a turn's scale error, a walk per metre driven and a small per-step floor, so a
+  // vehicle standing still does not turn the frame.
+  for (const Odometry& odometry : window_odometry_)
+    problem.heading_variance_rad2.push_back(estimation::wheelHeadingVariance_rad2(
+        std::hypot(odometry.forward_m, odometry.lateral_m), odometry.delta_heading_rad, estimation::WheelHeadingNoise{}));
+  problem.block_s = config_.init_window_block_s;
+  const bool calibrate = config_.calibrate_odometry && config_.motion_model == OnlineEmConfig::MotionModel::kOdometry;
+  if (calibrate && config_.init_window_bias) problem.bias_prior_sigma_rad_s = config_.heading_rate_bias_prior_sigma_rad_s;
+  // The filter's mixture: inlier N(0, (sr sigma0)^2) with weight w0, outlier uniform over the
+  // ranges' span (or the wide Gaussian).
+  const bool uniform = config_.outlier_model == OnlineEmConfig::OutlierModel::kUniform && max_range_m_ > 0.0;
+  const double w0 = mixture_weight0_;
+  problem.weight = [&](const WindowRange& r, double e_m, double* log_likelihood) {
+    const double sr = r.sigma_m;
+    const double s0 = sr * inlier_sigma0_, s1 = sr * config_.mixture_sigma1;
+    const double l0 = std::log(w0) - std::log(s0) - 0.5 * e_m * e_m / (s0 * s0);
+    const double l1 = w0 >= 1.0 ? -std::numeric_limits<double>::infinity()
+                                : std::log(1.0 - w0) + (uniform ? 0.5 * std::log(2.0 * M_PI) - std::log(max_range_m_)
+                                                                : -std::log(s1) - 0.5 * e_m * e_m / (s1 * s1));
+    const double top = std::max(l0, l1);
+    const double inlier = std::exp(l0 - top) / (std::exp(l0 - top) + std::exp(l1 - top));
+    *log_likelihood = top + std::log(std::exp(l0 - top) + std::exp(l1 - top));
+    return inlier / (s0 * s0);
+  };
+  const WindowSolution solution = solveWindow(problem);
+  if (!solution.solved) return;
+  // Applied only where the ranges refute the dead-reckoned window: the same solve with the path
+  // held (landmarks and range scale free) against it, a likelihood-ratio test at the inlier gate's
+  // significance (twice the log-posterior gain >= gate^2, as the mirror test): on Plaza 1 the
+  // gain is 6-8 (its odometry is good to a metre over the window, its ranges carry errors the
+  // model has not), on the 30 % NLOS runs 2-141 (the bad seeds 20-141).
+  WindowProblem held = problem;
+  for (double& v : held.heading_variance_rad2) v = 1e-16;
+  held.bias_prior_sigma_rad_s = 0.0;
+  const WindowSolution dead_reckoned = solveWindow(held);
+  const double gain = dead_reckoned.solved ? 2.0 * (solution.log_posterior - dead_reckoned.log_posterior) : 0.0;
+  setDiagnostic("window_solve_gain", gain);
+  const double gate = config_.init_outlier_gate_sigmas;
+  setDiagnostic("window_solve_applied", gain >= gate * gate ? 1.0 : 0.0);
+  if (gain < gate * gate) return;
+  // The particles follow the window's end: the rigid motion taking the nominal end pose to the
+  // solved one.
+  const Eigen::Vector3d& old_end = problem.path.back();
+  const Eigen::Vector3d& new_end = solution.path.back();
+  const double turn_rad = new_end.z() - old_end.z();
+  const Eigen::Matrix2d r = Eigen::Rotation2Dd(turn_rad).toRotationMatrix();
+  const Eigen::Vector2d shift_m = new_end.head<2>() - r * old_end.head<2>();
+  for (int k = 0; k < particles_.size(); ++k) {
+    const Eigen::Vector2d p = r * Eigen::Vector2d(particles_.x_m[k], particles_.y_m[k]) + shift_m;
+    particles_.x_m[k] = p.x();
+    particles_.y_m[k] = p.y();
+    particles_.heading_rad[k] += turn_rad;
+  }
+  for (int j = 1; j <= m; ++j) {
+    path_[j].x_m = solution.path[j].x();
+    path_[j].y_m = solution.path[j].y();
+    path_[j].heading_rad = solution.path[j].z();
+  }
+  // Each landmark's statistic: the average over its window ranges at the solved path, with the
+  // mixture's posterior probabilities (as at initialisation).
+  for (size_t a = 0; a < landmark_of.size(); ++a) landmarks_[landmark_of[a]].position_m = solution.landmarks_m[a];
+  range_scale_ = solution.range_scale;
+  std::vector<Eigen::Matrix<double, 1, kStatSize>> sums(landmark_of.size(), Eigen::Matrix<double, 1, kStatSize>::Zero());
+  std::vector<int> counts(landmark_of.size(), 0);
+  double stat0[kStatSize], stat1[kStatSize];
+  for (size_t q = 0; q < window_ranges_.size(); ++q) {
+    const WindowRange& w = window_ranges_[q];
+    const int a = solve_index[w.landmark];
+    if (a < 0) continue;
+    const Eigen::Vector3d p = (1.0 - w.fraction) * solution.path[w.step] + w.fraction * solution.path[w.step + 1];
+    const Eigen::Vector4d phi_i = phi(w.landmark);
+    double r1 = 0.0;
+    mixtureLogLikelihood(window_observations_[q], p.x(), p.y(), p.z(), phi_i, &r1);
+    observation_.statistic(window_observations_[q], p.x(), p.y(), p.z(), phi_i, 0, stat0);
+    observation_.statistic(window_observations_[q], p.x(), p.y(), p.z(), phi_i, 1, stat1);
+    for (int s = 0; s < kStatSize; ++s) sums[a][s] += (1.0 - r1) * stat0[s] + r1 * stat1[s];
+    ++counts[a];
+  }
+  for (size_t a = 0; a < landmark_of.size(); ++a) {
+    if (counts[a] == 0) continue;
+    const int i = landmark_of[a];
+    statistics_.middleCols(kStatSize * i, kStatSize).rowwise() = sums[a] / counts[a];
+    landmarks_[i].count = counts[a];
+  }
+  // The window is now as if dead-reckoned with the window's bias on top.
+  window_calibration_.heading_rate_bias_rad_s += solution.bias_rad_s;
+  setDiagnostic("window_solve_bias_rad_s", solution.bias_rad_s);
+  setDiagnostic("window_solve_turn_rad", turn_rad);
+  setDiagnostic("window_solve_turn_sigma_rad", solution.end_turn_sigma_rad);
+  setDiagnostic("window_solve_range_scale", solution.range_scale);
+  setDiagnostic("window_solve_ranges", static_cast<double>(problem.ranges.size()));
+  mStep();
   emitMap(currentMap());
 }
 

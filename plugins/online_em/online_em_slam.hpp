@@ -88,6 +88,13 @@
 // Range scale and offset: UWB ranges are often long by a few % (Plaza 1: 7 %); without (s, b) in
 // theta the map expands to fit them. r = s |m - p| + b is linearised in (m, s, b) like the rest.
 //
+// Early window solve (init_window_solve, anchor = start_pose, dense ranges; window_solve.hpp): the
+// landmarks above are multilaterated as if the dead-reckoned mean path were known, so the map
+// takes that path's frame. When the early window closes, its path (heading random walk in
+// blocks) and map (with the range scale) are solved jointly from the start pose through the
+// mixture, and replace the map, the window's path, the particles' frame and the landmark
+// statistics where the ranges refute the dead-reckoned path (likelihood-ratio gain >= gate^2).
+//
 // Initialisation: anchor = start_pose: particles start at the known pose; a landmark is placed by
 // multilateration from its first ranges (scale/offset-corrected) and the particle-mean positions
 // once they are spread enough (range-bearing: at its first observation, m = p + r (cos, sin)(th + b));
@@ -104,6 +111,7 @@
 #include "particle_motion.hpp"
 #include "observation_model.hpp"
 #include "online_em_config.hpp"
+#include "window_solve.hpp"
 #include "roam/estimator.hpp"
 
 namespace roam {
@@ -181,6 +189,7 @@ class OnlineEmSlam : public Estimator {
   void correctFrame();
   void applyFrameMotion(double angle_rad, const Eigen::Vector2d& translation_m);
   void rerun();
+  void solveEarlyWindow();
   void processOdometry(const Odometry& odometry);
   void publish(int64_t utime);
 
@@ -214,6 +223,10 @@ class OnlineEmSlam : public Estimator {
   double frame_angle_rad_ = 0.0;
   Eigen::Vector2d frame_translation_m_ = Eigen::Vector2d::Zero();
   std::vector<Range> queued_ranges_;
+  // The window's range-only ranges (solveEarlyWindow) and their observations.
+  std::vector<WindowRange> window_ranges_;
+  std::vector<RangeObservation> window_observations_;
+  bool window_solve_pending_ = false;
   // Calibrated re-run: the inputs in arrival order until it runs, and its state.
   struct Input {
     bool is_odometry = true;
