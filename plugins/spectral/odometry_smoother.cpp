@@ -10,6 +10,11 @@
 #include "roam/estimation/motion_model.hpp"
 
 namespace roam::spectral {
+namespace {
+// Prior on each heading correction: only keeps the system definite where nothing else holds it.
+constexpr double kHeadingPriorSigma_rad = 1.0;
+constexpr double kHeldHeadingWeight = 1e12;  // interior: the correction held at 0
+}  // namespace
 
 double spectralPositionSigma(double median_range_residual_m, double ranges_per_pose) {
   if (!(median_range_residual_m > 0.0) || !(ranges_per_pose > 0.0))
@@ -26,13 +31,27 @@ void smoothWithOdometry(const OdometryPath& path, const std::vector<double>& hea
   if (solved_poses.size() < 2 || !(position_sigma_m > 0.0)) return;
   using Mat2 = Eigen::Matrix2d;
   using Vec2 = Eigen::Vector2d;
+  using Mat3 = Eigen::Matrix3d;
+  using Vec3 = Eigen::Vector3d;
   const Path& in = *trajectory;
   const double w_p = 1.0 / (position_sigma_m * position_sigma_m);
-  std::vector<Mat2> D(T, Mat2::Zero()), W(T > 0 ? T - 1 : 0);  // diagonal blocks; step weights
-  std::vector<Vec2> r(T, Vec2::Zero());
+  // State per pose: (x, y, delta), delta the correction to the heading that turns odometry k
+  // (held at zero without noise.correct_headings). Normal equations: diagonal blocks D, the
+  // coupling of k and k+1 in U[k], right-hand side r.
+  const int S = noise.correct_headings ? 3 : 2;
+  std::vector<Mat3> D(T, Mat3::Zero()), U(T > 0 ? T - 1 : 0, Mat3::Zero());
+  std::vector<Vec3> r(T, Vec3::Zero());
+  if (S == 2)
+    for (Mat3& block : D) block(2, 2) = 1.0;  // delta fixed at 0
+  else
+    for (int k = 0; k < T; ++k) {
+      const bool end = path.utime[k] - path.utime.front() < noise.free_heading_end_us ||
+                       path.utime.back() - path.utime[k] < noise.free_heading_end_us;
+      D[k](2, 2) = end ? 1.0 / (kHeadingPriorSigma_rad * kHeadingPriorSigma_rad) : kHeldHeadingWeight;
+    }
   for (int j : solved_poses) {
-    D[j] += w_p * Mat2::Identity();
-    r[j] += w_p * Vec2(in[j].x_m, in[j].y_m);
+    D[j].topLeftCorner<2, 2>() += w_p * Mat2::Identity();
+    r[j].head<2>() += w_p * Vec2(in[j].x_m, in[j].y_m);
   }
   const estimation::OdometryCalibration scale_only{distance_scale, 0.0};
   for (int k = 0; k + 1 < T; ++k) {
@@ -43,25 +62,41 @@ void smoothWithOdometry(const OdometryPath& path, const std::vector<double>& hea
     const Vec2 d(c * inc(0) - s * inc(1), s * inc(0) + c * inc(1));
     const double sigma_d = noise.distance_sigma_rel * l + noise.distance_sigma_m;
     const double var_theta = estimation::wheelHeadingVariance_rad2(l, inc(2), noise.heading);
-    W[k] = Mat2::Identity() / (sigma_d * sigma_d + l * l * var_theta);
-    D[k] += W[k];
-    D[k + 1] += W[k];
-    r[k] -= W[k] * d;
-    r[k + 1] += W[k] * d;
+    const Mat2 W = Mat2::Identity() / (sigma_d * sigma_d + l * l * var_theta);
+    // Step residual p_{k+1} - p_k - d - delta_k J d (J d: d turned by 90 degrees, the first-order
+    // change of d with its heading): Jacobians A (pose k) and B (pose k+1).
+    Eigen::Matrix<double, 2, 3> A = Eigen::Matrix<double, 2, 3>::Zero(), B = A;
+    A.leftCols<2>() = -Mat2::Identity();
+    if (S == 3) A.col(2) = -Vec2(-d(1), d(0));
+    B.leftCols<2>() = Mat2::Identity();
+    D[k] += A.transpose() * W * A;
+    D[k + 1] += B.transpose() * W * B;
+    U[k] += A.transpose() * W * B;
+    r[k] += A.transpose() * W * d;
+    r[k + 1] += B.transpose() * W * d;
+    if (S == 3) {
+      // The correction random-walks with the odometry's own heading noise per step.
+      const double w_turn = 1.0 / var_theta;
+      D[k](2, 2) += w_turn;
+      D[k + 1](2, 2) += w_turn;
+      U[k](2, 2) -= w_turn;
+    }
   }
-  // Block Thomas: off-diagonal blocks are -W[k].
-  std::vector<Mat2> Dinv(T);
+  // Block Thomas on the symmetric block-tridiagonal system.
+  std::vector<Mat3> Dinv(T);
   for (int k = 0; k < T; ++k) {
     if (k > 0) {
-      const Mat2 m = W[k - 1] * Dinv[k - 1];
-      D[k] -= m * W[k - 1];
-      r[k] += m * r[k - 1];
+      const Mat3 m = U[k - 1].transpose() * Dinv[k - 1];
+      D[k] -= m * U[k - 1];
+      r[k] -= m * r[k - 1];
     }
     Dinv[k] = D[k].inverse();
   }
+  std::vector<Vec3> x(T);
+  x[T - 1] = Dinv[T - 1] * r[T - 1];
+  for (int k = T - 2; k >= 0; --k) x[k] = Dinv[k] * (r[k] - U[k] * x[k + 1]);
   std::vector<Vec2> p(T);
-  p[T - 1] = Dinv[T - 1] * r[T - 1];
-  for (int k = T - 2; k >= 0; --k) p[k] = Dinv[k] * (r[k] + W[k] * p[k + 1]);
+  for (int k = 0; k < T; ++k) p[k] = x[k].head<2>();
   // Keep the frame: the rigid motion that best fits the smoothed solved poses onto the solve's.
   Vec2 mean_in = Vec2::Zero(), mean_out = Vec2::Zero();
   for (int j : solved_poses) {

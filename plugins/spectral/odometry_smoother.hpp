@@ -13,7 +13,17 @@
 //   sigma_d = rel l + floor,   sigma_theta^2 = (rel_turn |w_k|)^2 + per_sqrt_m^2 l + floor_rad^2,
 // held isotropic as spectral_batch holds a step's displacement (hypot(sigma_d, l sigma_theta)):
 // the solved heading that turns d_k is itself uncertain by more than one step's sigma_theta.
-// The normal equations are block tridiagonal (2x2 blocks): block Thomas elimination, O(T).
+// Heading corrections (correct_headings): the heading that turns d_k becomes theta_k + delta_k,
+// delta_k unknown, linearised at 0 (d_k + delta_k J d_k, J the 90-degree turn), with
+//   delta_{k+1} - delta_k ~ N(0, sigma_theta^2)   (the odometry's own heading noise per step)
+// and delta_k held at 0 except within free_heading_end_us of the path's first and last pose. The
+// solver sets that to W/2: there the rank-4 local rotation fit that gives theta_k (over +-W/2) is
+// one-sided, and on the drifting-gyro figure-8 it leaves the first ~60 poses' headings 30-70 mrad
+// off the rest of the path (README "Round 7b"); the odometry turned by them bends the path's ends,
+// and the start-pose gauge turns the whole path about the bent start. Headings are not changed in
+// the output (the correction only places the positions).
+// The normal equations are block tridiagonal (3x3 blocks: x, y, delta): block Thomas
+// elimination, O(T).
 // sigma_p, the spectral positions' noise, comes from their own range residuals: a pose's
 // position rests on the ranges near it; sigma_r (1.4826 x the solution's median |range residual|)
 // per range along its direction, nu ranges per pose on average, i.e. per axis an information of
@@ -23,6 +33,7 @@
 // the gauge (surveyed beacons or start pose) is the solve's, unchanged.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "odometry_path.hpp"
@@ -35,6 +46,11 @@ struct SmootherNoise {
   double distance_sigma_rel = 0.02;
   double distance_sigma_m = 0.005;
   estimation::WheelHeadingNoise heading;
+  // Estimate a correction delta_k to each turning heading (a random walk with the heading noise
+  // above per step), jointly with the positions: see the model. false: headings as given.
+  bool correct_headings = false;
+  // Only within this span of the path's first and last pose (elsewhere held at 0).
+  int64_t free_heading_end_us = INT64_MAX;
 };
 
 // sigma_p from the solution's median |range residual| and the ranges per pose (> 0 both).

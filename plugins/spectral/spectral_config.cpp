@@ -40,6 +40,8 @@ void addSpectralOptions(Options& o, SpectralConfig* c) {
       .min(0.0, false);
   o.add("smooth_with_odometry", &c->smooth_with_odometry,
         "fuse the solved positions with the calibrated odometry's step displacements (frame kept)");
+  o.add("smoothing_corrects_headings", &c->smoothing_corrects_headings,
+        "smooth_with_odometry: also estimate a correction to each heading that turns the odometry");
   o.add("odo_distance_sigma_rel", &c->odo_distance_sigma_rel,
         "smooth_with_odometry: odometry distance noise, fraction of the step").min(0.0);
   o.add("odo_distance_sigma_m", &c->odo_distance_sigma_m,

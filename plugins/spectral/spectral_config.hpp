@@ -93,6 +93,10 @@ struct SpectralConfig {
   // error sits at periods of ~5-100 s (the windows), where one step of odometry is good to ~1 cm
   // but a pose's spectral position only to decimetres (README "Round 6"). false: the solve as is.
   bool smooth_with_odometry = true;
+  // The smoother also estimates a correction to each heading that turns the odometry (a random
+  // walk with the odometry's heading noise per step): the rank-4 local-fit headings are one-sided
+  // at the path's ends and off there by 30-70 mrad (README "Round 7b"). false: headings as given.
+  bool smoothing_corrects_headings = true;
   // Its odometry distance noise per step, sigma = rel d + floor: the ekf's and spectral_batch's
   // model and defaults (the heading noise is odo_heading_sigma_*).
   double odo_distance_sigma_rel = 0.02;

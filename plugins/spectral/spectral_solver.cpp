@@ -745,6 +745,9 @@ void smoothSolution(const SpectralProblem& problem, const SpectralConfig& config
   noise.distance_sigma_rel = config.odo_distance_sigma_rel;
   noise.distance_sigma_m = config.odo_distance_sigma_m;
   noise.heading = gaugeNoise(config);
+  noise.correct_headings = config.smoothing_corrects_headings;
+  // Where the rank-4 local fit of the turning headings (over +-W/2) is one-sided.
+  noise.free_heading_end_us = static_cast<int64_t>(std::llround(0.5 * solution.window_s * 1e6));
   // The headings that turn the increments: the solved path's; rank 7's come from range rates and
   // scatter from pose to pose, so there the local rotation fit onto the calibrated dead reckoning
   // (rank 4's headings) is used.
