@@ -387,10 +387,13 @@ TEST(EkfCalibration, NlosThirtyPercentStartPoseNarrowArcIsNotPlacedByOneRange) {
               deadReckoningError(run));
   EXPECT_LT(error_m, 1.2);
   ASSERT_EQ(ekf.filter().beacons().size(), 6u);
-  for (const Beacon& truth : run.beacons)
-    for (const Beacon& estimate : ekf.currentMap())
-      if (estimate.id == truth.id && truth.id == 2)
+  for (const Beacon& truth : run.beacons) {
+    for (const Beacon& estimate : ekf.currentMap()) {
+      if (estimate.id == truth.id && truth.id == 2) {
         EXPECT_LT(std::hypot(estimate.x_m - truth.x_m, estimate.y_m - truth.y_m), 1.5);
+      }
+    }
+  }
 }
 
 TEST(EkfCalibration, AuvStartPoseThatInitialisesNoBeaconSaysWhyInStatus) {
