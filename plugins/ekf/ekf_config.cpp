@@ -47,6 +47,11 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("init_max_ranges", &c->init_max_ranges, "ranges buffered per pending beacon").min(3);
   o.add("init_window_s", &c->init_window_s, "buffered ranges older than this are dropped").min(0.0, false);
   o.add("init_prior_inflation", &c->init_prior_inflation, "batch covariance inflation before re-applying the ranges").min(1.0, false);
+  o.add("init_window_solve", &c->init_window_solve,
+        "start pose: the early window's path and map solved jointly once every beacon seen is in the state, used where its ranges refute the dead-reckoned path");
+  o.add("init_window_block_s", &c->init_window_block_s, "the window solve's heading error is constant over blocks this long").min(0.0, false);
+  o.add("init_window_prior_inflation", &c->init_window_prior_inflation,
+        "the window solve's beacons enter with their solve's covariance times this").min(0.0, false);
   o.require([c] { return c->init_max_ranges >= c->init_min_ranges; }, {"init_max_ranges", "init_min_ranges"},
             "init_max_ranges >= init_min_ranges");
 }

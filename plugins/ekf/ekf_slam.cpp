@@ -245,6 +245,7 @@ void EkfSlam::advance(Step step, bool live) {
   if (live) acceptOdometry();
   history_.push_back(std::move(step));
   initialiseReadyBeacons();
+  if (!window_tried_ && pending_.empty() && !filter_.beacons().empty()) solveEarlyWindow();
   if (live) rerunWithCalibration();
   prune();
 }
@@ -633,6 +634,11 @@ void EkfSlam::publishDiagnostics() {
   setDiagnostic("range_offset_m", filter_.offset());
   for (const auto& [id, index] : filter_.beacons())
     if (filter_.beaconOffsetIndex(id) >= 0) setDiagnostic("range_offset_beacon_" + std::to_string(id) + "_m", filter_.beaconOffset(id));
+  setDiagnostic("window_solve_gain", window_gain_);
+  setDiagnostic("window_solve_turn_rad", window_turn_rad_);
+  setDiagnostic("window_solve_gate", window_gate_);
+  setDiagnostic("window_solve_inlier_scatter", inlier_scatter_);
+  setDiagnostic("window_solve_applied", window_applied_ ? 1.0 : 0.0);
   setDiagnostic("beacons_initialised", static_cast<double>(filter_.beacons().size()));
   setDiagnostic("beacons_pending", static_cast<double>(pending_.size()));
   // Why the pending beacons are still pending: each counted under the check its last batch

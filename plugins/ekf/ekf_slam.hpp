@@ -34,6 +34,9 @@
 // filtered path after these re-runs, smoothed backwards (smooth_trajectory, ekf_smoother.hpp);
 // POSE messages are the filter's and those already published are not revised. History
 // is kept only while a beacon is pending (bounded by init_max_ranges and init_window_s).
+// Start pose: once every beacon seen so far is in the state, the window from the start is solved
+// jointly (path and map, ekf_window_init.cpp) and, where its ranges refute the dead-reckoned
+// path, the insertions move to its map and the history is re-run (init_window_solve).
 #pragma once
 
 #include <cstdint>
@@ -117,6 +120,9 @@ class EkfSlam : public Estimator {
   MultilaterationResult dropDeletedOutliers(MultilaterationResult solve, const RangeBiasPrior& bias, std::vector<Sighting>* used) const;
   size_t mostInformative(const MultilaterationResult& solve, const std::vector<Sighting>& used, const RangeBiasPrior& bias) const;
   double deletedResidualZ2(const std::vector<Sighting>& used, size_t i, size_t also_out, const RangeBiasPrior& bias) const;
+  // The early window from the start solved jointly once every beacon seen so far is in the
+  // state (ekf_window_init.cpp): the insertions moved to its map and the history re-run.
+  void solveEarlyWindow();
   void rollbackAndInsert(int id, const MultilaterationResult& solve, std::vector<Sighting> used);
   void replayFrom(int64_t offset, int64_t first_step);
   void rerunWithCalibration();
@@ -168,6 +174,12 @@ class EkfSlam : public Estimator {
   std::map<int, MultilaterationResult> last_solve_;  // each pending beacon's previous solve
   std::map<int, size_t> last_trim_size_;             // its buffer's size at the last trimmed solve
   int64_t replays_ = 0;
+  bool window_tried_ = false;     // the early window solve (once per run):
+  double window_gain_ = 0.0;      // its likelihood-ratio gain,
+  double window_turn_rad_ = 0.0;  // its heading correction at the window's end,
+  bool window_applied_ = false;   // and whether it was used
+  double window_gate_ = 0.0;      // the gain it had to reach
+  double inlier_scatter_ = 0.0;   // the window's inlier scatter over the stated sigma
   // Buffered ranges (beacon, time) its batch solution did not explain: not re-applied.
   std::set<std::pair<int, int64_t>> excluded_ranges_;
   std::set<std::pair<int, int64_t>> first_pass_excluded_;  // excluded_ranges_ of the pass before a fresh re-run

@@ -225,7 +225,7 @@ struct OnlineEmConfig {
   // the start, and its UWB ranges 6 % long: a short baseline fits them by moving the beacon).
   bool init_mirror_test = false;
   // anchor = start_pose, ranges dense (the heading-rate bias rule): when the early window closes
-  // (every landmark seen so far placed), solve the window's path and map jointly (window_solve.hpp:
+  // (every landmark seen so far placed), solve the window's path and map jointly (roam/estimation/window_solve.hpp:
   // the path's heading random walk in blocks of init_window_block_s with the shared wheel model's
   // variance, the range scale with its prior, the ranges through the learned mixture) and replace
   // the multilaterated map, the window's path, the particles' frame and the landmark statistics

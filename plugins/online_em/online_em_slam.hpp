@@ -88,7 +88,7 @@
 // Range scale and offset: UWB ranges are often long by a few % (Plaza 1: 7 %); without (s, b) in
 // theta the map expands to fit them. r = s |m - p| + b is linearised in (m, s, b) like the rest.
 //
-// Early window solve (init_window_solve, anchor = start_pose, dense ranges; window_solve.hpp): the
+// Early window solve (init_window_solve, anchor = start_pose, dense ranges; roam/estimation/window_solve.hpp): the
 // landmarks above are multilaterated as if the dead-reckoned mean path were known, so the map
 // takes that path's frame. When the early window closes, its path (heading random walk in
 // blocks) and map (with the range scale) are solved jointly from the start pose through the
@@ -111,11 +111,16 @@
 #include "particle_motion.hpp"
 #include "observation_model.hpp"
 #include "online_em_config.hpp"
-#include "window_solve.hpp"
+#include "roam/estimation/window_solve.hpp"
 #include "roam/estimator.hpp"
 
 namespace roam {
 namespace online_em {
+
+using estimation::solveWindow;
+using estimation::WindowProblem;
+using estimation::WindowRange;
+using estimation::WindowSolution;
 
 class OnlineEmSlam : public Estimator {
  public:

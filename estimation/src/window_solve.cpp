@@ -1,4 +1,4 @@
-#include "window_solve.hpp"
+#include "roam/estimation/window_solve.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <Eigen/Geometry>
 
 namespace roam {
-namespace online_em {
+namespace estimation {
 
 namespace {
 
@@ -148,5 +148,5 @@ WindowSolution solveWindow(const WindowProblem& problem) {
   return out;
 }
 
-}  // namespace online_em
+}  // namespace estimation
 }  // namespace roam

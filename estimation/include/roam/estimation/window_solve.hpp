@@ -28,7 +28,7 @@
 #include <Eigen/Core>
 
 namespace roam {
-namespace online_em {
+namespace estimation {
 
 struct WindowRange {
   int landmark = 0;     // index into the solve's landmarks
@@ -67,5 +67,5 @@ struct WindowSolution {
 
 WindowSolution solveWindow(const WindowProblem& problem);
 
-}  // namespace online_em
+}  // namespace estimation
 }  // namespace roam
