@@ -38,6 +38,7 @@ WindowSolution solveWindow(const WindowProblem& problem) {
     block_variance.back() += problem.heading_variance_rad2[j];
   }
   const int num_blocks = static_cast<int>(block_first.size());
+  out.heading_blocks = num_blocks;
   const bool with_bias = problem.bias_prior_sigma_rad_s > 0.0;
   const bool with_range_scale = problem.range_scale_prior_sigma > 0.0;
   const int i_block = 2 * num_landmarks, i_bias = i_block + num_blocks;

@@ -70,5 +70,13 @@ double chiSquareQuantile(int dof, double probability) {
   return z * z;
 }
 
+double chiSquareQuantileWilsonHilferty(int dof, double probability) {
+  // (X / k)^(1/3) is close to normal with mean 1 - 2 / (9 k) and variance 2 / (9 k); z is the
+  // standard normal quantile at probability (from chi2(1): P(|Z| < z) = 2 p - 1).
+  const double z = std::sqrt(chiSquareQuantile(1, 2.0 * probability - 1.0));
+  const double k = dof;
+  return k * std::pow(1.0 - 2.0 / (9.0 * k) + z * std::sqrt(2.0 / (9.0 * k)), 3);
+}
+
 }  // namespace ekf
 }  // namespace roam

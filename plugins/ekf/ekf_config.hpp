@@ -102,6 +102,9 @@ void addEkfOptions(Options& options, EkfConfig* config);
 
 // Chi-square quantile for dof = 1 or 2 at the given probability (infinity for probability 1).
 double chiSquareQuantile(int dof, double probability);
+// The chi-square quantile for any dof >= 1 by the Wilson-Hilferty approximation (within ~1 % of
+// the exact quantile beyond a few dof); the EKF's early-window gate (one dof per heading block).
+double chiSquareQuantileWilsonHilferty(int dof, double probability);
 
 }  // namespace ekf
 }  // namespace roam

@@ -108,16 +108,8 @@ void EkfSlam::solveEarlyWindow() {
   window_gain_ = dead_reckoned.solved ? 2.0 * (solution.log_posterior - dead_reckoned.log_posterior) : 0.0;
   window_turn_rad_ = solution.path.back().z() - problem.path.back().z();
   // Twice the gain is chi2 with one dof per heading block if the dead-reckoned path is right:
-  // its quantile at gate_probability (Wilson-Hilferty), not a one-dof gate.
-  int blocks = 0;
-  for (long j = 0, last = -1; j + 1 < static_cast<long>(problem.time_s.size()); ++j) {
-    const long raw = static_cast<long>(std::floor(problem.time_s[j] / problem.block_s));
-    if (raw != last) ++blocks;
-    last = raw;
-  }
-  const double z = std::sqrt(chiSquareQuantile(1, 2.0 * config_.gate_probability - 1.0));
-  const double k = std::max(1, blocks);
-  window_gate_ = k * std::pow(1.0 - 2.0 / (9.0 * k) + z * std::sqrt(2.0 / (9.0 * k)), 3);
+  // its quantile at gate_probability, not a one-dof gate.
+  window_gate_ = chiSquareQuantileWilsonHilferty(std::max(1, solution.heading_blocks), config_.gate_probability);
   if (window_gain_ < window_gate_) return;
   for (Step& step : history_)
     for (Insert& insert : step.inserts) {

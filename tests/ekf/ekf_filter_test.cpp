@@ -149,6 +149,13 @@ TEST(EkfConfig, ChiSquareQuantiles) {
   EXPECT_TRUE(std::isinf(chiSquareQuantile(1, 1.0)));
 }
 
+TEST(EkfConfig, WilsonHilfertyQuantilesAreWithinAPercentOfTheTables) {
+  // Tabulated: chi2(10) 99 % = 23.209, chi2(30) 99.9 % = 59.703, chi2(100) 95 % = 124.342.
+  EXPECT_NEAR(chiSquareQuantileWilsonHilferty(10, 0.99), 23.209, 0.01 * 23.209);
+  EXPECT_NEAR(chiSquareQuantileWilsonHilferty(30, 0.999), 59.703, 0.01 * 59.703);
+  EXPECT_NEAR(chiSquareQuantileWilsonHilferty(100, 0.95), 124.342, 0.01 * 124.342);
+}
+
 }  // namespace
 }  // namespace ekf
 }  // namespace roam

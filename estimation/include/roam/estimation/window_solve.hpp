@@ -62,6 +62,7 @@ struct WindowSolution {
   double range_scale = 1.0;
   double end_turn_sigma_rad = 0.0;  // posterior sigma of the heading correction at the end
   double log_posterior = 0.0;       // at the solution: ranges' mixture log-likelihood + log priors
+  int heading_blocks = 0;           // the heading random walk's blocks (one unknown each)
   bool solved = false;
 };
 
