@@ -149,5 +149,11 @@ WindowSolution solveWindow(const WindowProblem& problem) {
   return out;
 }
 
+WindowProblem withPathHeld(WindowProblem problem) {
+  for (double& v : problem.heading_variance_rad2) v = 1e-16;
+  problem.bias_prior_sigma_rad_s = 0.0;
+  return problem;
+}
+
 }  // namespace estimation
 }  // namespace roam

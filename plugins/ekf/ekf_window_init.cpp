@@ -81,8 +81,7 @@ void EkfSlam::solveEarlyWindow() {
   // The inliers' scatter about the dead-reckoned window's fit (an M-step of the mixture's
   // inlier scale, as online EM's sigma0): a stated sigma is a floor, and ranges that scatter
   // beyond it would otherwise buy a bent path a gain they do not support.
-  estimation::WindowProblem held = problem;
-  for (double& v : held.heading_variance_rad2) v = 1e-16;
+  estimation::WindowProblem held = estimation::withPathHeld(problem);
   estimation::WindowSolution dead_reckoned = estimation::solveWindow(held);
   if (!dead_reckoned.solved) return;
   {

@@ -941,10 +941,7 @@ void OnlineEmSlam::solveEarlyWindow() {
   // significance (twice the log-posterior gain >= gate^2, as the mirror test): on Plaza 1 the
   // gain is 6-8 (its odometry is good to a metre over the window, its ranges carry errors the
   // model has not), on the 30 % NLOS runs 2-141 (the bad seeds 20-141).
-  WindowProblem held = problem;
-  for (double& v : held.heading_variance_rad2) v = 1e-16;
-  held.bias_prior_sigma_rad_s = 0.0;
-  const WindowSolution dead_reckoned = solveWindow(held);
+  const WindowSolution dead_reckoned = solveWindow(estimation::withPathHeld(problem));
   const double gain = dead_reckoned.solved ? 2.0 * (solution.log_posterior - dead_reckoned.log_posterior) : 0.0;
   setDiagnostic("window_solve_gain", gain);
   const double gate = config_.init_outlier_gate_sigmas;

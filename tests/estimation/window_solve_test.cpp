@@ -67,6 +67,18 @@ TEST(WindowSolve, RecoversABentPathAndTheMapExactly) {
   EXPECT_LT(worst_path_m, 0.02);
   EXPECT_LT(worst_map_m, 0.02);
   EXPECT_NEAR(solution.range_scale, 1.05, 1e-3);
+
+  // The null hypothesis: with the path held the solve keeps the nominal (bent) path, whose ranges
+  // cost more than the free solve's (the landmarks absorb part of the bend): twice the gain
+  // (measured 25.5) passes online EM's gate of 3^2 = 9.
+  const WindowSolution held = solveWindow(estimation::withPathHeld(problem));
+  ASSERT_TRUE(held.solved);
+  double held_moved_m = 0.0;
+  for (size_t j = 0; j < truth.size(); ++j)
+    held_moved_m = std::max(held_moved_m, (held.path[j].head<2>() - problem.path[j].head<2>()).norm());
+  EXPECT_LT(held_moved_m, 1e-4);
+  EXPECT_EQ(solution.heading_blocks, 9);  // 225 steps of 0.2 s (0 to 44.8 s): blocks of 5 s
+  EXPECT_GT(2.0 * (solution.log_posterior - held.log_posterior), 9.0);
 }
 
 }  // namespace

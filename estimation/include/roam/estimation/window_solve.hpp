@@ -68,5 +68,11 @@ struct WindowSolution {
 
 WindowSolution solveWindow(const WindowProblem& problem);
 
+// The same problem with the path held at its nominal poses (heading walk and bias pinned; the
+// landmarks and the range scale still free): the null hypothesis of the likelihood-ratio test
+// that decides whether a window's ranges refute its dead-reckoned path (twice the gain in
+// log_posterior of the free solve over this one).
+WindowProblem withPathHeld(WindowProblem problem);
+
 }  // namespace estimation
 }  // namespace roam
