@@ -41,6 +41,13 @@ TEST(SimHold, StandsStillThenDrives) {
   int held_ranges = 0;
   for (const roam::Range& r : held.ranges) held_ranges += r.utime <= held.ground_truth[kHoldSteps].utime ? 1 : 0;
   EXPECT_EQ(held_ranges, 90);
+  // A quieter gyro at rest: the turn while standing is 0.225 rad within 4 x 0.0003 sqrt(225).
+  config.hold_heading_sigma_rad = 0.0003;
+  const roam::sim::SimRun quiet = roam::sim::simulate(config);
+  double quiet_turn_rad = 0.0;
+  for (int k = 0; k < kHoldSteps; ++k) quiet_turn_rad += quiet.odometry[k].delta_heading_rad;
+  EXPECT_NEAR(quiet_turn_rad, 0.225, 0.018);
+  config.hold_heading_sigma_rad = -1.0;
   // hold 0 is the run without it.
   config.hold_s = 0.0;
   const roam::sim::SimRun again = roam::sim::simulate(config);

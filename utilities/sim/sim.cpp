@@ -242,8 +242,8 @@ SimRun simulate(const SimConfig& c) {
     const double sigma_d = c.odo_distance_sigma_rel * u.distance_m + c.odo_distance_sigma_m;
     odo.forward_m = std::max(0.0, c.odo_distance_scale * u.distance_m + sigma_d * normal(rng));
     if (c.odo_lateral_sigma_rel > 0.0) odo.lateral_m = c.odo_lateral_sigma_rel * u.distance_m * normal(rng);
-    odo.delta_heading_rad = u.dheading_rad + c.odo_heading_bias_radps * c.dt_s +
-                            c.odo_heading_sigma_rad * normal(rng);
+    const double heading_sigma_rad = k < hold_steps && c.hold_heading_sigma_rad >= 0.0 ? c.hold_heading_sigma_rad : c.odo_heading_sigma_rad;
+    odo.delta_heading_rad = u.dheading_rad + c.odo_heading_bias_radps * c.dt_s + heading_sigma_rad * normal(rng);
     run.odometry.push_back(odo);
     pose = next;
   }

@@ -56,6 +56,11 @@ struct SimConfig {
   // Standing start: the first round(hold_s / dt_s) steps do not move (a robot waiting before it
   // drives, like Plaza 1's ~45 s); the path's own steps follow, up to num_steps in all.
   double hold_s = 0.0;
+  // Heading noise per step while standing (rad; < 0: odo_heading_sigma_rad). A gyro standing
+  // still drifts by its bias and angle random walk only, far less than a driving robot's per-step
+  // heading noise; that noise, accrued before the first metre, turns the whole start frame by an
+  // amount nothing later observes (0.003 rad x sqrt(225 steps) = 0.045 rad: ~2 m at 40 m).
+  double hold_heading_sigma_rad = -1.0;
 
   // Beacons: given, or num_beacons uniform in the box [-margin, W+margin] x [-margin, H+margin]
   // around the area swept by the robot (in the start frame for lawn-mower/random walk).

@@ -44,6 +44,9 @@ int main(int argc, char** argv) {
       ("hold-s", po::value(&c.hold_s)->default_value(c.hold_s),
        "stand still this many seconds first (odometry keeps its heading noise and gyro bias, "
        "ranges are taken), then drive the path; --steps counts both")
+      ("hold-heading-sigma", po::value(&c.hold_heading_sigma_rad)->default_value(c.hold_heading_sigma_rad),
+       "heading noise per step while standing (rad; < 0: --odo-heading-sigma); a gyro at rest "
+       "drifts by its bias and angle random walk only")
       ("path", po::value(&path_kind)->default_value(path_kind), "random_walk | lawn_mower | loop | figure8")
       ("area-width", po::value(&c.area_width_m)->default_value(c.area_width_m), "lane length / box width (m)")
       ("area-height", po::value(&c.area_height_m)->default_value(c.area_height_m), "sweep / box height (m)")
