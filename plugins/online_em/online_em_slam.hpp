@@ -191,6 +191,8 @@ class OnlineEmSlam : public Estimator {
   void mixtureMStep();
   void calibrationMStep();
   void setDistanceScale(double s);
+  void setHeadingRateBias(double b_rad_s);
+  bool bias_spread_drawn_ = false;  // the per-particle bias deviations drawn from their prior
   void correctFrame();
   void applyFrameMotion(double angle_rad, const Eigen::Vector2d& translation_m);
   void rerun();
