@@ -189,6 +189,7 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
   // The bias spread by the same rule (b is fixed at 0 where it does not hold). Not while
   // replaying the calibrated re-run: b is fixed at its learned value there.
   motion_.enableBiasSpread(ranges_select && !replaying_);
+  motion_.setBiasSpreadSigma(heading_rate_bias_sigma_rad_s_);
   if (motion_.biasSpread() && !bias_spread_drawn_) {
     // The lineages' biases start from the prior's spread about b (the stationary distribution).
     bias_spread_drawn_ = true;

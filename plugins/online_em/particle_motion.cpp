@@ -37,7 +37,9 @@ void ParticleMotion::setControl(const Odometry& odometry, double dt_s,
       // Time 0: constant per lineage (a = 1, no innovation).
       const double time_s = config_.heading_rate_bias_particle_time_s;
       bias_ar_ = time_s > 0.0 ? std::exp(-std::max(dt_s, 0.0) / time_s) : 1.0;
-      bias_innovation_sigma_rad_s_ = std::sqrt(1.0 - bias_ar_ * bias_ar_) * config_.heading_rate_bias_particle_sigma_rad_s;
+      const double sigma = std::isfinite(bias_sigma_rad_s_) ? std::min(bias_sigma_rad_s_, config_.heading_rate_bias_particle_sigma_rad_s)
+                                                            : config_.heading_rate_bias_particle_sigma_rad_s;
+      bias_innovation_sigma_rad_s_ = std::sqrt(1.0 - bias_ar_ * bias_ar_) * sigma;
     } else {
       bias_ar_ = 1.0;
       bias_innovation_sigma_rad_s_ = 0.0;

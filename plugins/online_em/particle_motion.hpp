@@ -68,6 +68,9 @@ class ParticleMotion {
   bool scaleSpread() const { return config_.scaleSpreadActive() && scale_spread_enabled_; }
   // The same for the per-particle heading-rate bias deviation (OnlineEmConfig::biasSpreadActive).
   void enableBiasSpread(bool enabled) { bias_spread_enabled_ = enabled; }
+  // The stationary sigma of the bias deviation from the next setControl on (rad/s; the current
+  // uncertainty of b, at most heading_rate_bias_particle_sigma_rad_s).
+  void setBiasSpreadSigma(double sigma_rad_s) { bias_sigma_rad_s_ = sigma_rad_s; }
   bool biasSpread() const { return config_.biasSpreadActive() && bias_spread_enabled_; }
 
   // Draws the new pose of particle `to` from old particle `from` of `previous`.
@@ -103,7 +106,7 @@ class ParticleMotion {
   double scale_ar_ = 1.0, scale_innovation_sigma_ = 0.0;
   // Per-particle bias deviation: AR(1) coefficient and innovation sigma (rad/s) over the step.
   bool bias_spread_ = false, bias_spread_enabled_ = false;
-  double bias_ar_ = 1.0, bias_innovation_sigma_rad_s_ = 0.0;
+  double bias_ar_ = 1.0, bias_innovation_sigma_rad_s_ = 0.0, bias_sigma_rad_s_ = kNaN;
 };
 
 }  // namespace online_em
