@@ -94,6 +94,10 @@ struct OnlineEmConfig {
   // sigma was 0.1 of the prior (re-run at b = 0.0106 vs 0.0100 true: 0.65 m; at 0.05: 0.51 m).
   bool calibrated_rerun = true;
   double rerun_bias_sigma_fraction = 0.05;
+  // The published trajectory (TRAJECTORY) smoothed: a Rauch-Tung-Striebel backward pass over the
+  // particle cloud's Gaussian summary at each step (estimation/pose_smoother.hpp), the shared
+  // motion model's prediction; false: the filtered means (what POSE streams).
+  bool smooth_trajectory = true;
   // The frame correction (and so the re-run) also applies when |b| >= this many sigma_b (0: off,
   // only the window's rotation against its heading noise counts). 3 fixes the synthetic
   // figure-8 at 0.002-0.005 rad/s (1.2-2.5 m -> 0.4-0.6 m, seeds 401/402) where the short window

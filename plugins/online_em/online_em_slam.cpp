@@ -186,6 +186,7 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
   motion_.enableScaleSpread(bias_state_ == BiasState::kEstimated ||
                             (bias_state_ == BiasState::kUndecided && ranges_dense_so_far_));
   motion_.setControl(odometry, dt_s, calibration_);
+  transitions_.push_back({motion_.increment(), motion_.incrementCovariance()});
   if (window_open_) {
     window_odometry_.push_back(odometry);
     window_dt_s_.push_back(dt_s);
@@ -811,7 +812,12 @@ void OnlineEmSlam::applyFrameMotion(double angle_rad, const Eigen::Vector2d& tra
   };
   for (int k = 0; k < particles_.size(); ++k)
     move(&particles_.x_m[k], &particles_.y_m[k], &particles_.heading_rad[k]);
-  for (Pose& pose : path_) move(&pose.x_m, &pose.y_m, &pose.heading_rad);
+  const Eigen::Matrix3d r3 = (Eigen::Matrix3d() << r, Eigen::Vector2d::Zero(), 0.0, 0.0, 1.0).finished();
+  for (Pose& pose : path_) {
+    move(&pose.x_m, &pose.y_m, &pose.heading_rad);
+    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> covariance(pose.covariance.data());
+    covariance = r3 * covariance * r3.transpose();
+  }
   // phi = M phi' + c with M = diag(R^T, 1, 1), c = (-R^T t, 0, 0).
   Eigen::Matrix4d big_m = Eigen::Matrix4d::Identity();
   big_m.topLeftCorner<2, 2>() = r.transpose();
@@ -857,6 +863,8 @@ void OnlineEmSlam::rerun() {
   statistics_.resize(config_.num_particles, 0);
   queued_ranges_.clear();
   path_.clear();
+  transitions_.clear();
+  smooth_first_ = 0;
   window_odometry_.clear();
   window_dt_s_.clear();
   window_ranges_.clear();
@@ -960,6 +968,7 @@ void OnlineEmSlam::solveEarlyWindow() {
     particles_.y_m[k] = p.y();
     particles_.heading_rad[k] += turn_rad;
   }
+  smooth_first_ = static_cast<size_t>(m);
   for (int j = 1; j <= m; ++j) {
     path_[j].x_m = solution.path[j].x();
     path_[j].y_m = solution.path[j].y();
@@ -1046,8 +1055,35 @@ void OnlineEmSlam::finish() {
 
 bool OnlineEmSlam::trajectory(bool force, Path* path) {
   if (path_.empty() || (!force && state() != EstimatorState::kFinished)) return false;
-  *path = path_;
+  *path = config_.smooth_trajectory ? smoothedPath() : path_;
   return true;
+}
+
+Path OnlineEmSlam::smoothedPath() const {
+  if (config_.motion_model != OnlineEmConfig::MotionModel::kOdometry || transitions_.size() + 1 != path_.size())
+    return path_;
+  std::vector<estimation::PoseGaussian> filtered(path_.size());
+  for (size_t k = 0; k < path_.size(); ++k) {
+    filtered[k].mean = Eigen::Vector3d(path_[k].x_m, path_[k].y_m, path_[k].heading_rad);
+    filtered[k].covariance = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(path_[k].covariance.data());
+    // A cloud can collapse (resampled onto few ancestors): its covariance is at least what one
+    // step of the motion noise spreads it by (translation variance on both axes, heading).
+    if (k == 0) continue;
+    const Eigen::Matrix3d& q = transitions_[k - 1].increment_covariance;
+    const double translation_m2 = std::max(q(0, 0), q(1, 1));
+    const Eigen::Vector3d floor(translation_m2, translation_m2, q(2, 2));
+    for (int i = 0; i < 3; ++i) filtered[k].covariance(i, i) = std::max(filtered[k].covariance(i, i), floor[i]);
+  }
+  const std::vector<estimation::PoseGaussian> smoothed = estimation::smoothPoseChain(filtered, transitions_, smooth_first_);
+  Path path = path_;
+  for (size_t k = smooth_first_; k < path.size(); ++k) {
+    path[k].x_m = smoothed[k].mean[0];
+    path[k].y_m = smoothed[k].mean[1];
+    path[k].heading_rad = smoothed[k].mean[2];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) path[k].covariance[3 * r + c] = smoothed[k].covariance(r, c);
+  }
+  return path;
 }
 
 }  // namespace online_em

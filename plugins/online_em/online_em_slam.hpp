@@ -111,6 +111,7 @@
 #include "particle_motion.hpp"
 #include "observation_model.hpp"
 #include "online_em_config.hpp"
+#include "roam/estimation/pose_smoother.hpp"
 #include "roam/estimation/window_solve.hpp"
 #include "roam/estimator.hpp"
 
@@ -142,6 +143,10 @@ class OnlineEmSlam : public Estimator {
   double beaconRangeOffset(int id) const;
   const estimation::OdometryCalibration& odometryCalibration() const { return calibration_; }
   const Path& filteredPath() const { return path_; }
+  // The filtered path RTS-smoothed (smooth_trajectory; estimation::smoothPoseChain): each pose's
+  // cloud covariance floored by one step of the motion noise, the backward pass stopping at the
+  // end of an applied early-window solve (the window's poses are the solve's already).
+  Path smoothedPath() const;
   double outlierWeight() const { return 1.0 - mixture_weight0_; }
   double inlierSigmaScale() const { return inlier_sigma0_; }
   const ParticlePoses& particles() const { return particles_; }
@@ -264,6 +269,9 @@ class OnlineEmSlam : public Estimator {
   double mean_outlier_ = 0.0, mean_inlier_e2_ = 0.0, mean_inlier_ = 0.0;
   int64_t mixture_ranges_ = 0;
   Path path_;  // filtered means, one per step (the start pose first)
+  // The step from path_[k] to path_[k + 1]: its calibrated increment and noise (smoothedPath).
+  std::vector<estimation::PoseTransition> transitions_;
+  size_t smooth_first_ = 0;  // poses before it are not smoothed (the early window's solve)
   double sum_effective_predecessors_ = 0.0;
   int64_t smoothing_steps_ = 0;
   double min_ess_ = kNaN;
