@@ -26,7 +26,7 @@ std::vector<PoseGaussian> smoothPoseChain(const std::vector<PoseGaussian>& filte
     odometry.lateral_m = t.increment[1];
     odometry.delta_heading_rad = t.increment[2];
     const StepJacobians j = stepJacobians(now.mean, odometry, 0.0);
-    const Eigen::Vector3d predicted = step(now.mean, t.increment);
+    const Eigen::Vector3d predicted = t.has_predicted_mean ? t.predicted_mean : step(now.mean, t.increment);
     const Eigen::Matrix3d predicted_covariance = j.wrt_pose * now.covariance * j.wrt_pose.transpose() +
                                                  j.wrt_increment * t.increment_covariance * j.wrt_increment.transpose();
     const Eigen::LDLT<Eigen::Matrix3d> ldlt(predicted_covariance);

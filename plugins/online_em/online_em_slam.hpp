@@ -95,6 +95,16 @@
 // mixture, and replace the map, the window's path, the particles' frame and the landmark
 // statistics where the ranges refute the dead-reckoned path (likelihood-ratio gain >= gate^2).
 //
+// Published trajectory (smooth_trajectory): POSE streams the filtered cloud's weighted mean; the
+// TRAJECTORY at the end is that path smoothed by a Rauch-Tung-Striebel backward pass
+// (roam/estimation/pose_smoother.hpp) over the cloud's Gaussian summary N(m_t, P_t) after each
+// update, predicted through the shared motion model with the step's own calibrated increment
+// and noise (kappa included): the ranges after t reach x_t through the filtered poses after it.
+// Each P_t is floored by one step of the motion noise (a cloud resampled onto few ancestors
+// would otherwise stop the pass). The frame correction rotates path and covariances together;
+// the calibrated re-run rebuilds both; an applied early-window solve's poses are already the
+// window's smoothed solution, so the backward pass stops at the window's end.
+//
 // Initialisation: anchor = start_pose: particles start at the known pose; a landmark is placed by
 // multilateration from its first ranges (scale/offset-corrected) and the particle-mean positions
 // once they are spread enough (range-bearing: at its first observation, m = p + r (cos, sin)(th + b));
@@ -202,6 +212,11 @@ class OnlineEmSlam : public Estimator {
   void solveEarlyWindow();
   void processOdometry(const Odometry& odometry);
   void publish(int64_t utime);
+  // The cloud's weighted mean and covariance (heading: circular mean, spread about it).
+  static Pose summarise(const ParticlePoses& particles, const Eigen::ArrayXd& weights, int64_t utime);
+  // trajectory_repass: the pose-only particle filter run again over every input against the
+  // final theta, its cloud summaries and transitions (empty if it cannot match path_).
+  Path repassPath(std::vector<estimation::PoseTransition>* transitions) const;
 
   OnlineEmConfig config_;
   ParticleMotion motion_;
@@ -244,6 +259,7 @@ class OnlineEmSlam : public Estimator {
     Range range;
   };
   std::vector<Input> inputs_;
+  std::vector<Input> all_inputs_;  // every input, for trajectory_repass
   bool recording_ = false, rerun_pending_ = false, replaying_ = false;
   double heading_rate_bias_sigma_rad_s_ = kNaN;
   estimation::OdometryCalibration window_calibration_;  // the early window was dead-reckoned with it

@@ -28,6 +28,12 @@ struct PoseGaussian {
 struct PoseTransition {
   Eigen::Vector3d increment = Eigen::Vector3d::Zero();  // calibrated (u_c, v_c, w_c), robot frame
   Eigen::Matrix3d increment_covariance = Eigen::Matrix3d::Zero();
+  // The filter's own prediction m_{k+1|k}, where it has one that is not step(m_k, q_k): a particle
+  // cloud's mean moves less than its mean pose's step where the headings spread (E cos th =
+  // cos E th exp(-var / 2)), and that difference, taken for an innovation, would pile up
+  // backwards over every step without a range.
+  bool has_predicted_mean = false;
+  Eigen::Vector3d predicted_mean = Eigen::Vector3d::Zero();
 };
 
 // filtered: N poses; transitions: N - 1 (transitions[k] takes pose k to pose k + 1). Poses
