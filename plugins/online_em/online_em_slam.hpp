@@ -95,15 +95,18 @@
 // mixture, and replace the map, the window's path, the particles' frame and the landmark
 // statistics where the ranges refute the dead-reckoned path (likelihood-ratio gain >= gate^2).
 //
-// Published trajectory (smooth_trajectory): POSE streams the filtered cloud's weighted mean; the
-// TRAJECTORY at the end is that path smoothed by a Rauch-Tung-Striebel backward pass
-// (roam/estimation/pose_smoother.hpp) over the cloud's Gaussian summary N(m_t, P_t) after each
-// update, predicted through the shared motion model with the step's own calibrated increment
-// and noise (kappa included): the ranges after t reach x_t through the filtered poses after it.
-// Each P_t is floored by one step of the motion noise (a cloud resampled onto few ancestors
-// would otherwise stop the pass). The frame correction rotates path and covariances together;
-// the calibrated re-run rebuilds both; an applied early-window solve's poses are already the
-// window's smoothed solution, so the backward pass stops at the window's end.
+// Published trajectory (smooth_trajectory, off by default): POSE streams the filtered cloud's
+// weighted mean; the TRAJECTORY at the end may be that path smoothed by a Rauch-Tung-Striebel
+// backward pass (roam/estimation/pose_smoother.hpp) over the cloud's Gaussian summary
+// N(m_t, P_t) after each update, predicted through the shared motion model with the step's own
+// calibrated increment and noise (kappa included), the predicted mean's translation shrunk by
+// exp(-var_th / 2) (E[R(th)] under the cloud's heading spread): the ranges after t reach x_t
+// through the filtered poses after it. Each P_t is floored by one step of the motion noise (a
+// cloud resampled onto few ancestors would otherwise stop the pass). The frame correction rotates
+// path and covariances together; the calibrated re-run rebuilds both; an applied early-window
+// solve's poses are already the window's smoothed solution, so the pass stops at the window's end.
+// trajectory_repass (trajectory_repass.cpp): the pose filter re-run over every input against the
+// final theta first, and the backward pass over that run.
 //
 // Initialisation: anchor = start_pose: particles start at the known pose; a landmark is placed by
 // multilateration from its first ranges (scale/offset-corrected) and the particle-mean positions

@@ -35,6 +35,23 @@ TEST(PoseSmoother, StandingStillHalvesTheInnovation) {
   EXPECT_TRUE(smoothed[1].mean.isApprox(filtered[1].mean, kTolerance));  // the last pose is its own
 }
 
+TEST(PoseSmoother, UsesTheFiltersOwnPrediction) {
+  // As above, but the filter predicted (1, 0, 0) rather than step(m0, 0) = 0: the innovation is
+  // (2, -4, 0.2) - (1, 0, 0), so m_{0|N} = (1, -4, 0.2) / 2 = (0.5, -2, 0.1).
+  std::vector<PoseGaussian> filtered(2);
+  filtered[0].covariance = Eigen::Matrix3d::Identity();
+  filtered[1].mean = Eigen::Vector3d(2.0, -4.0, 0.2);
+  filtered[1].covariance = 0.5 * Eigen::Matrix3d::Identity();
+  std::vector<PoseTransition> transitions(1);
+  transitions[0].increment_covariance = Eigen::Matrix3d::Identity();
+  transitions[0].has_predicted_mean = true;
+  transitions[0].predicted_mean = Eigen::Vector3d(1.0, 0.0, 0.0);
+  const std::vector<PoseGaussian> smoothed = smoothPoseChain(filtered, transitions);
+  EXPECT_NEAR(smoothed[0].mean[0], 0.5, kTolerance);
+  EXPECT_NEAR(smoothed[0].mean[1], -2.0, kTolerance);
+  EXPECT_NEAR(smoothed[0].mean[2], 0.1, kTolerance);
+}
+
 TEST(PoseSmoother, EqualsConditioningTheJointGaussian) {
   // x0 ~ N(m0, P0); x1 = step(x0, q + e) linearised: x1 = f(m0) + F (x0 - m0) + G e; z = x1 + v,
   // v ~ N(0, R). The filter at 1 is the Kalman update of the prediction on z; the smoother must
