@@ -42,6 +42,12 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
       .min(0.0);
   options.add("calibrated_rerun", &c->calibrated_rerun,
               "start_pose: re-run once from the start with the learned calibration");
+  options.add("smooth_trajectory", &c->smooth_trajectory,
+              {{"off", C::SmoothTrajectory::kOff}, {"beacons", C::SmoothTrajectory::kBeacons},
+               {"always", C::SmoothTrajectory::kAlways}},
+              "RTS-smoothed TRAJECTORY: off, beacons (anchor = beacons only), always");
+  options.add("trajectory_repass", &c->trajectory_repass,
+              "smooth_trajectory: re-run the pose filter against the final map and calibration before smoothing");
   options.add("rerun_bias_sigma_fraction", &c->rerun_bias_sigma_fraction,
               "re-run once the bias sigma is below this fraction of its prior").min(0.0, false).max(1.0);
   options.add("frame_bias_significance_sigmas", &c->frame_bias_significance_sigmas,

@@ -120,6 +120,23 @@ struct OnlineEmConfig {
   // sigma was 0.1 of the prior (re-run at b = 0.0106 vs 0.0100 true: 0.65 m; at 0.05: 0.51 m).
   bool calibrated_rerun = true;
   double rerun_bias_sigma_fraction = 0.05;
+  // The published trajectory (TRAJECTORY) smoothed: a Rauch-Tung-Striebel backward pass over the
+  // particle cloud's Gaussian summary at each step (estimation/pose_smoother.hpp), the shared
+  // motion model's prediction. off (default: the filtered means, what POSE streams), beacons
+  // (where anchor = beacons), always. Off by default: better on every synthetic beacons kind
+  // (README "Round 8"), but Plaza 1 / plaza1-drpath with beacons 0.39 / 0.50 -> 0.43 / 0.55 m
+  // and goats16's beacons 9.20 -> 9.57 m (1.25 x dead reckoning). From the start pose the error
+  // is the frame its map was placed in, a rigid motion no smoothing moves.
+  enum class SmoothTrajectory { kOff, kBeacons, kAlways };
+  SmoothTrajectory smooth_trajectory = SmoothTrajectory::kOff;
+  bool smoothing(Anchor a) const {
+    return smooth_trajectory == SmoothTrajectory::kAlways ||
+           (smooth_trajectory == SmoothTrajectory::kBeacons && a == Anchor::kBeacons);
+  }
+  // Before the backward pass, run the pose-only particle filter once more over every input
+  // against the final theta (map, range scale and offsets, calibration, mixture, kappa). Off:
+  // the best on every synthetic beacons kind, but plaza1-drift's beacons 0.58 -> 0.70 m (README).
+  bool trajectory_repass = false;
   // The frame correction (and so the re-run) also applies when |b| >= this many sigma_b (0: off,
   // only the window's rotation against its heading noise counts). 3 fixes the synthetic
   // figure-8 at 0.002-0.005 rad/s (1.2-2.5 m -> 0.4-0.6 m, seeds 401/402) where the short window

@@ -145,6 +145,7 @@ void OnlineEmSlam::addRange(const Range& range) {
     return;
   }
   if (recording_ && !replaying_) inputs_.push_back({false, Odometry{}, range});
+  if (config_.smoothing(config_.anchor) && config_.trajectory_repass && !replaying_) all_inputs_.push_back({false, Odometry{}, range});
   checkBiasObservable(range.utime);
   if (config_.outlier_model == OnlineEmConfig::OutlierModel::kUniform && range.range_m > max_range_m_) {
     max_range_m_ = range.range_m;
@@ -155,6 +156,7 @@ void OnlineEmSlam::addRange(const Range& range) {
 
 void OnlineEmSlam::addOdometry(const Odometry& odometry) {
   if (recording_ && !replaying_) inputs_.push_back({true, odometry, Range{}});
+  if (config_.smoothing(config_.anchor) && config_.trajectory_repass && !replaying_) all_inputs_.push_back({true, odometry, Range{}});
   processOdometry(odometry);
   if (rerun_pending_ && !replaying_) rerun();
 }
@@ -197,6 +199,7 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
     for (int k = 0; k < n; ++k) previous_.bias_deviation_rad_s[k] = normal(rng_);
   }
   motion_.setControl(odometry, dt_s, calibration_);
+  transitions_.push_back({motion_.increment(), motion_.incrementCovariance()});
   if (window_open_) {
     window_odometry_.push_back(odometry);
     window_dt_s_.push_back(dt_s);
@@ -835,7 +838,12 @@ void OnlineEmSlam::applyFrameMotion(double angle_rad, const Eigen::Vector2d& tra
   };
   for (int k = 0; k < particles_.size(); ++k)
     move(&particles_.x_m[k], &particles_.y_m[k], &particles_.heading_rad[k]);
-  for (Pose& pose : path_) move(&pose.x_m, &pose.y_m, &pose.heading_rad);
+  const Eigen::Matrix3d r3 = (Eigen::Matrix3d() << r, Eigen::Vector2d::Zero(), 0.0, 0.0, 1.0).finished();
+  for (Pose& pose : path_) {
+    move(&pose.x_m, &pose.y_m, &pose.heading_rad);
+    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> covariance(pose.covariance.data());
+    covariance = r3 * covariance * r3.transpose();
+  }
   // phi = M phi' + c with M = diag(R^T, 1, 1), c = (-R^T t, 0, 0).
   Eigen::Matrix4d big_m = Eigen::Matrix4d::Identity();
   big_m.topLeftCorner<2, 2>() = r.transpose();
@@ -881,6 +889,8 @@ void OnlineEmSlam::rerun() {
   statistics_.resize(config_.num_particles, 0);
   queued_ranges_.clear();
   path_.clear();
+  transitions_.clear();
+  smooth_first_ = 0;
   window_odometry_.clear();
   window_dt_s_.clear();
   window_ranges_.clear();
@@ -984,6 +994,7 @@ void OnlineEmSlam::solveEarlyWindow() {
     particles_.y_m[k] = p.y();
     particles_.heading_rad[k] += turn_rad;
   }
+  smooth_first_ = static_cast<size_t>(m);
   for (int j = 1; j <= m; ++j) {
     path_[j].x_m = solution.path[j].x();
     path_[j].y_m = solution.path[j].y();
@@ -1042,23 +1053,27 @@ Map OnlineEmSlam::currentMap() const {
   return map;
 }
 
-void OnlineEmSlam::publish(int64_t utime) {
+Pose OnlineEmSlam::summarise(const ParticlePoses& particles, const Eigen::ArrayXd& w, int64_t utime) {
   // Weighted mean and covariance; heading: circular mean, spread about it.
-  const Eigen::ArrayXd& w = weights_;
   Pose pose;
   pose.utime = utime;
-  pose.x_m = (w * particles_.x_m).sum();
-  pose.y_m = (w * particles_.y_m).sum();
-  const double heading_rad = std::atan2((w * particles_.heading_rad.sin()).sum(), (w * particles_.heading_rad.cos()).sum());
+  pose.x_m = (w * particles.x_m).sum();
+  pose.y_m = (w * particles.y_m).sum();
+  const double heading_rad = std::atan2((w * particles.heading_rad.sin()).sum(), (w * particles.heading_rad.cos()).sum());
   pose.heading_rad = heading_rad;
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (int k = 0; k < particles_.size(); ++k) {
-    const Eigen::Vector3d d(particles_.x_m[k] - pose.x_m, particles_.y_m[k] - pose.y_m,
-                            std::remainder(particles_.heading_rad[k] - heading_rad, 2.0 * M_PI));
+  for (int k = 0; k < particles.size(); ++k) {
+    const Eigen::Vector3d d(particles.x_m[k] - pose.x_m, particles.y_m[k] - pose.y_m,
+                            std::remainder(particles.heading_rad[k] - heading_rad, 2.0 * M_PI));
     covariance += w[k] * d * d.transpose();
   }
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) pose.covariance[3 * r + c] = covariance(r, c);
+  return pose;
+}
+
+void OnlineEmSlam::publish(int64_t utime) {
+  const Pose pose = summarise(particles_, weights_, utime);
   path_.push_back(pose);
   if (!replaying_) emitPose(pose);
 }
@@ -1070,8 +1085,52 @@ void OnlineEmSlam::finish() {
 
 bool OnlineEmSlam::trajectory(bool force, Path* path) {
   if (path_.empty() || (!force && state() != EstimatorState::kFinished)) return false;
-  *path = path_;
+  *path = config_.smoothing(config_.anchor) ? smoothedPath() : path_;
   return true;
+}
+
+Path OnlineEmSlam::smoothedPath() const {
+  if (config_.motion_model != OnlineEmConfig::MotionModel::kOdometry || transitions_.size() + 1 != path_.size())
+    return path_;
+  std::vector<estimation::PoseTransition> repass_transitions;
+  const Path repass = config_.trajectory_repass ? repassPath(&repass_transitions) : Path{};
+  const bool use_repass = !repass.empty();
+  const Path& source = use_repass ? repass : path_;
+  const std::vector<estimation::PoseTransition>& transitions = use_repass ? repass_transitions : transitions_;
+  const size_t first = use_repass ? 0 : smooth_first_;
+  std::vector<estimation::PoseGaussian> filtered(source.size());
+  for (size_t k = 0; k < source.size(); ++k) {
+    filtered[k].mean = Eigen::Vector3d(source[k].x_m, source[k].y_m, source[k].heading_rad);
+    filtered[k].covariance = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(source[k].covariance.data());
+    // A cloud can collapse (resampled onto few ancestors): its covariance is at least what one
+    // step of the motion noise spreads it by (translation variance on both axes, heading).
+    if (k == 0) continue;
+    const Eigen::Matrix3d& q = transitions[k - 1].increment_covariance;
+    const double translation_m2 = std::max(q(0, 0), q(1, 1));
+    const Eigen::Vector3d floor(translation_m2, translation_m2, q(2, 2));
+    for (int i = 0; i < 3; ++i) filtered[k].covariance(i, i) = std::max(filtered[k].covariance(i, i), floor[i]);
+  }
+  // The prediction's first moment under the cloud's heading spread: for th ~ N(m, var),
+  // E[R(th)] = R(m) exp(-var / 2), so the cloud's mean moves by exp(-var / 2) R(m) q (not R(m) q:
+  // that difference, taken for an innovation, piles up backwards over every step without a range).
+  std::vector<estimation::PoseTransition> predicted = transitions;
+  for (size_t k = 0; k + 1 < source.size(); ++k) {
+    const double shrink = std::exp(-0.5 * std::max(0.0, filtered[k].covariance(2, 2)));
+    const Eigen::Vector3d& q = predicted[k].increment;
+    const double th = filtered[k].mean[2], c = std::cos(th), s = std::sin(th);
+    predicted[k].has_predicted_mean = true;
+    predicted[k].predicted_mean = filtered[k].mean + Eigen::Vector3d(shrink * (c * q[0] - s * q[1]), shrink * (s * q[0] + c * q[1]), q[2]);
+  }
+  const std::vector<estimation::PoseGaussian> smoothed = estimation::smoothPoseChain(filtered, predicted, first);
+  Path path = source;
+  for (size_t k = first; k < path.size(); ++k) {
+    path[k].x_m = smoothed[k].mean[0];
+    path[k].y_m = smoothed[k].mean[1];
+    path[k].heading_rad = smoothed[k].mean[2];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) path[k].covariance[3 * r + c] = smoothed[k].covariance(r, c);
+  }
+  return path;
 }
 
 }  // namespace online_em

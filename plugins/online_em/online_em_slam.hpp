@@ -101,6 +101,19 @@
 // mixture, and replace the map, the window's path, the particles' frame and the landmark
 // statistics where the ranges refute the dead-reckoned path (likelihood-ratio gain >= gate^2).
 //
+// Published trajectory (smooth_trajectory, off by default): POSE streams the filtered cloud's
+// weighted mean; the TRAJECTORY at the end may be that path smoothed by a Rauch-Tung-Striebel
+// backward pass (roam/estimation/pose_smoother.hpp) over the cloud's Gaussian summary
+// N(m_t, P_t) after each update, predicted through the shared motion model with the step's own
+// calibrated increment and noise (kappa included), the predicted mean's translation shrunk by
+// exp(-var_th / 2) (E[R(th)] under the cloud's heading spread): the ranges after t reach x_t
+// through the filtered poses after it. Each P_t is floored by one step of the motion noise (a
+// cloud resampled onto few ancestors would otherwise stop the pass). The frame correction rotates
+// path and covariances together; the calibrated re-run rebuilds both; an applied early-window
+// solve's poses are already the window's smoothed solution, so the pass stops at the window's end.
+// trajectory_repass (trajectory_repass.cpp): the pose filter re-run over every input against the
+// final theta first, and the backward pass over that run.
+//
 // Initialisation: anchor = start_pose: particles start at the known pose; a landmark is placed by
 // multilateration from its first ranges (scale/offset-corrected) and the particle-mean positions
 // once they are spread enough (range-bearing: at its first observation, m = p + r (cos, sin)(th + b));
@@ -117,6 +130,7 @@
 #include "particle_motion.hpp"
 #include "observation_model.hpp"
 #include "online_em_config.hpp"
+#include "roam/estimation/pose_smoother.hpp"
 #include "roam/estimation/window_solve.hpp"
 #include "roam/estimator.hpp"
 
@@ -148,6 +162,10 @@ class OnlineEmSlam : public Estimator {
   double beaconRangeOffset(int id) const;
   const estimation::OdometryCalibration& odometryCalibration() const { return calibration_; }
   const Path& filteredPath() const { return path_; }
+  // The filtered path RTS-smoothed (smooth_trajectory; estimation::smoothPoseChain): each pose's
+  // cloud covariance floored by one step of the motion noise, the backward pass stopping at the
+  // end of an applied early-window solve (the window's poses are the solve's already).
+  Path smoothedPath() const;
   double outlierWeight() const { return 1.0 - mixture_weight0_; }
   double inlierSigmaScale() const { return inlier_sigma0_; }
   const ParticlePoses& particles() const { return particles_; }
@@ -205,6 +223,11 @@ class OnlineEmSlam : public Estimator {
   void solveEarlyWindow();
   void processOdometry(const Odometry& odometry);
   void publish(int64_t utime);
+  // The cloud's weighted mean and covariance (heading: circular mean, spread about it).
+  static Pose summarise(const ParticlePoses& particles, const Eigen::ArrayXd& weights, int64_t utime);
+  // trajectory_repass: the pose-only particle filter run again over every input against the
+  // final theta, its cloud summaries and transitions (empty if it cannot match path_).
+  Path repassPath(std::vector<estimation::PoseTransition>* transitions) const;
 
   OnlineEmConfig config_;
   ParticleMotion motion_;
@@ -247,6 +270,7 @@ class OnlineEmSlam : public Estimator {
     Range range;
   };
   std::vector<Input> inputs_;
+  std::vector<Input> all_inputs_;  // every input, for trajectory_repass
   bool recording_ = false, rerun_pending_ = false, replaying_ = false;
   double heading_rate_bias_sigma_rad_s_ = kNaN;
   estimation::OdometryCalibration window_calibration_;  // the early window was dead-reckoned with it
@@ -272,6 +296,9 @@ class OnlineEmSlam : public Estimator {
   double mean_outlier_ = 0.0, mean_inlier_e2_ = 0.0, mean_inlier_ = 0.0;
   int64_t mixture_ranges_ = 0;
   Path path_;  // filtered means, one per step (the start pose first)
+  // The step from path_[k] to path_[k + 1]: its calibrated increment and noise (smoothedPath).
+  std::vector<estimation::PoseTransition> transitions_;
+  size_t smooth_first_ = 0;  // poses before it are not smoothed (the early window's solve)
   double sum_effective_predecessors_ = 0.0;
   int64_t smoothing_steps_ = 0;
   double min_ess_ = kNaN;

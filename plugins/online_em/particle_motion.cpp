@@ -54,6 +54,7 @@ void ParticleMotion::setControl(const Odometry& odometry, double dt_s,
     Eigen::Matrix3d covariance = estimation::incrementCovariance(odometry, dt_s, noise);
     const Eigen::Vector3d scale(translation_noise_scale_, translation_noise_scale_, 1.0);
     covariance = scale.asDiagonal() * covariance * scale.asDiagonal();
+    covariance_ = covariance;
     const Eigen::LLT<Eigen::Matrix3d> llt(covariance);
     if (llt.info() == Eigen::Success) {
       noise_factor_ = llt.matrixL();

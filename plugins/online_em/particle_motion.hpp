@@ -72,6 +72,9 @@ class ParticleMotion {
   // uncertainty of b, at most heading_rate_bias_particle_sigma_rad_s).
   void setBiasSpreadSigma(double sigma_rad_s) { bias_sigma_rad_s_ = sigma_rad_s; }
   bool biasSpread() const { return config_.biasSpreadActive() && bias_spread_enabled_; }
+  // The step's calibrated increment and its white-noise covariance (odometry model; after setControl).
+  const Eigen::Vector3d& increment() const { return increment_; }
+  const Eigen::Matrix3d& incrementCovariance() const { return covariance_; }
 
   // Draws the new pose of particle `to` from old particle `from` of `previous`.
   void sample(const ParticlePoses& previous, int from, ParticlePoses* next, int to,
@@ -99,6 +102,7 @@ class ParticleMotion {
   double dt_s_ = 0.0;
   Eigen::Vector3d increment_ = Eigen::Vector3d::Zero();
   Eigen::Matrix3d noise_factor_ = Eigen::Matrix3d::Zero(), information_ = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d covariance_ = Eigen::Matrix3d::Zero();
   double steer_rad_ = 0.0, sigma_step_m_ = 0.0;  // bicycle: psi and sigma_v dt
   double translation_noise_scale_ = 1.0;
   // Per-particle scale deviation: AR(1) coefficient a and innovation sigma (0: off).

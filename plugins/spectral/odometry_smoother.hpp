@@ -28,6 +28,17 @@
 // position rests on the ranges near it; sigma_r (1.4826 x the solution's median |range residual|)
 // per range along its direction, nu ranges per pose on average, i.e. per axis an information of
 // nu / (2 sigma_r^2): sigma_p = sigma_r sqrt(2 / nu).
+// Ranges instead of positions (smoothing_uses_ranges, smoother_ranges.hpp): each range r_i to a
+// beacon m (the solve's map, re-fitted to the ranges; range scale and offset removed) between
+// poses k and k+1 at fraction f is the measurement
+//   r_i = |(1 - f) p_k + f p_k+1 - m| + e_i,  e_i ~ N(0, sigma_r^2),
+// linearised at the current positions and solved again (Gauss-Newton, kRangeIterations), Tukey's
+// biweight on e_i (c = 4.685 sigma_r, the windows' robust fit's). A range adds a rank-1 term to
+// its poses' blocks, so the system stays block tridiagonal. The spectral positions are then left
+// out: they are a summary of the same ranges (counting both counts them twice), and at the path's
+// ends a summary by one window's edge fit, whose error is smooth over ~W/2 (the first W/2 of the
+// drifting-gyro figure-8 0.3-0.6 m off the rest of the path from range noise alone: README
+// "Round 8"), which no per-pose weight describes.
 // Frame: the least squares keeps the solved poses' centroid (uniform sigma_p); the smoothed path
 // is then moved by the rigid motion that best fits its solved poses onto the unsmoothed ones, so
 // the gauge (surveyed beacons or start pose) is the solve's, unchanged.
@@ -56,12 +67,23 @@ struct SmootherNoise {
 // sigma_p from the solution's median |range residual| and the ranges per pose (> 0 both).
 double spectralPositionSigma(double median_range_residual_m, double ranges_per_pose);
 
+// One range for the smoother: between pose and pose + 1 (at fraction of the step), to a beacon at
+// (beacon_x_m, beacon_y_m), in the path's length unit (the range's scale and offset removed).
+struct SmootherRange {
+  int pose = 0;
+  double fraction = 0.0;
+  double beacon_x_m = 0.0, beacon_y_m = 0.0;
+  double range_m = 0.0;
+};
+
 // trajectory: one pose per pose of path; heading_rad: per pose, the heading that turns odometry k
 // (the solved path's); solved_poses: the poses that hold a spectral position (sorted, at least
-// 2). distance_scale: the odometry calibration's. Replaces the positions of trajectory; headings
-// and times are kept.
+// 2). distance_scale: the odometry calibration's. ranges (optional, with range_sigma_m > 0): used
+// instead of the spectral positions (model). Replaces the positions of trajectory; headings and
+// times are kept.
 void smoothWithOdometry(const OdometryPath& path, const std::vector<double>& heading_rad,
                         const std::vector<int>& solved_poses, double distance_scale,
-                        double position_sigma_m, const SmootherNoise& noise, Path* trajectory);
+                        double position_sigma_m, const SmootherNoise& noise, Path* trajectory,
+                        const std::vector<SmootherRange>* ranges = nullptr, double range_sigma_m = 0.0);
 
 }  // namespace roam::spectral

@@ -42,6 +42,8 @@ void addSpectralOptions(Options& o, SpectralConfig* c) {
         "fuse the solved positions with the calibrated odometry's step displacements (frame kept)");
   o.add("smoothing_corrects_headings", &c->smoothing_corrects_headings,
         "smooth_with_odometry: also estimate a correction to each heading that turns the odometry");
+  o.add("smoothing_uses_ranges", &c->smoothing_uses_ranges,
+        "smooth_with_odometry: the ranges to the re-fitted map instead of the spectral positions");
   o.add("odo_distance_sigma_rel", &c->odo_distance_sigma_rel,
         "smooth_with_odometry: odometry distance noise, fraction of the step").min(0.0);
   o.add("odo_distance_sigma_m", &c->odo_distance_sigma_m,

@@ -97,6 +97,11 @@ struct SpectralConfig {
   // walk with the odometry's heading noise per step): the rank-4 local-fit headings are one-sided
   // at the path's ends and off there by 30-70 mrad (README "Round 7b"). false: headings as given.
   bool smoothing_corrects_headings = true;
+  // The smoother takes the ranges themselves (to the solve's map, re-fitted; smoother_ranges.hpp)
+  // instead of the spectral positions, which at the path's ends are one window's edge fit (README
+  // "Round 8"). Not where the windows' outlier fraction makes outlier-majority windows plausible.
+  // false: the spectral positions.
+  bool smoothing_uses_ranges = true;
   // Its odometry distance noise per step, sigma = rel d + floor: the ekf's and spectral_batch's
   // model and defaults (the heading noise is odo_heading_sigma_*).
   double odo_distance_sigma_rel = 0.02;

@@ -109,6 +109,7 @@ void SpectralSlam::finish() {
   setDiagnostic("window_outlier_fraction", solution_->window_outlier_fraction);
   setDiagnostic("dropped_ranges", solution_->dropped_ranges);
   setDiagnostic("smoothing_position_sigma_m", solution_->smoothing_position_sigma_m);
+  setDiagnostic("smoothing_range_sigma_m", solution_->smoothing_range_sigma_m);
   setState(EstimatorState::kFinished);
 }
 

@@ -11,6 +11,7 @@
 #include "gap_fill.hpp"
 #include "odometry_calibration.hpp"
 #include "odometry_smoother.hpp"
+#include "smoother_ranges.hpp"
 #include "start_gauge.hpp"
 #include "thin_svd.hpp"
 #include "roam/estimation/rotation_about_start.hpp"
@@ -766,8 +767,21 @@ void smoothSolution(const SpectralProblem& problem, const SpectralConfig& config
         calibrated, poses, xy_m, static_cast<int64_t>(std::llround(0.5 * solution.window_s * 1e6)));
     for (size_t j = 0; j < poses.size(); ++j) heading_rad[poses[j]] = calibrated.heading_rad[poses[j]] + offset(j);
   }
+  // The ranges instead of the spectral positions (smoother_ranges.hpp), unless outliers shaped
+  // the solve: it dropped ranges (outliers had grown its windows), or its windows' outlier
+  // fraction makes beacon-windows with an outlier majority plausible (the consistency retry's
+  // test). There the windows' robust fits (least quantile of squares, then the biweight per
+  // beacon-window) separate outliers better than one biweight on linearised residuals (30 %
+  // NLOS: README "Round 8").
+  std::vector<SmootherRange> smoother_ranges;
+  double sigma_r_m = 0.0;
+  if (config.smoothing_uses_ranges && solution.dropped_ranges == 0 &&
+      outlierMajorityChance(problem, solution.window_s, solution.window_outlier_fraction) <= 1e-3)
+    smoother_ranges = smootherRanges(problem, config, solution, &sigma_r_m);
+  const bool use_ranges = !smoother_ranges.empty() && sigma_r_m > 0.0;
   smoothWithOdometry(problem.path, heading_rad, solution.solved_pose_indices, solution.calibration.distance_scale,
-                     sigma_p_m, noise, &solution.trajectory);
+                     sigma_p_m, noise, &solution.trajectory, use_ranges ? &smoother_ranges : nullptr, sigma_r_m);
+  solution.smoothing_range_sigma_m = use_ranges ? sigma_r_m : 0.0;
   solution.smoothing_position_sigma_m = sigma_p_m;
 }
 

@@ -40,6 +40,7 @@ struct SpectralSolution {
   int solved_poses = 0;      // poses with every row of Y (the rest are bridged)
   std::vector<int> solved_pose_indices;  // which they are (sorted)
   double smoothing_position_sigma_m = 0.0;  // smooth_with_odometry's sigma_p (0: not smoothed)
+  double smoothing_range_sigma_m = 0.0;     // smoothing_uses_ranges' sigma_r (0: positions used)
   double state_scale = 1.0;  // anchor = beacons: learned X[0] (kappa^2 for ranges scaled by kappa)
   double window_s = 0.0;     // the interpolation window used (effectiveWindowSeconds)
   // The odometry calibration the solution's dead reckoning used (config.calibrate_odometry:
