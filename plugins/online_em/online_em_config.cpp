@@ -33,6 +33,10 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
               "correlation length (distance travelled) of the per-particle distance-scale deviation").min(0.0, false);
   options.add("heading_rate_bias_prior_sigma_rad_s", &c->heading_rate_bias_prior_sigma_rad_s,
               "prior sigma of the heading-rate bias around 0").min(0.0, false);
+  options.add("heading_rate_bias_particle_sigma_rad_s", &c->heading_rate_bias_particle_sigma_rad_s,
+              "per-particle heading-rate bias deviation sigma (rad/s; 0: off)").min(0.0);
+  options.add("heading_rate_bias_particle_time_s", &c->heading_rate_bias_particle_time_s,
+              "correlation time of the per-particle heading-rate bias deviation (0: constant per lineage)").min(0.0);
   options.add("heading_rate_bias_max_drift_rad", &c->heading_rate_bias_max_drift_rad,
               "fix the heading-rate bias at 0 if its prior turns the heading more than this between position fixes (0: always estimate)")
       .min(0.0);

@@ -63,6 +63,7 @@ void OnlineEmSlam::start(const Pose& pose) {
   particles_.y_m.setConstant(pose.y_m);
   particles_.heading_rad.setConstant(pose.heading_rad);
   particles_.scale_deviation.setZero();
+  particles_.bias_deviation_rad_s.setZero();
   weights_.setConstant(1.0 / config_.num_particles);
   setState(EstimatorState::kTracking);
   publish(pose.utime);
@@ -185,8 +186,18 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
   // before its 20th range the same rule on the ranges so far (the first seconds decide where
   // the range scale settles: held off until the 20th range, 30 % NLOS + 0.97 scale, beacons,
   // 0.37 -> 0.49 m; on regardless until then, an AUV-like run, seed 406, went 4.9 -> 27.2 m).
-  motion_.enableScaleSpread(bias_state_ == BiasState::kEstimated ||
-                            (bias_state_ == BiasState::kUndecided && ranges_dense_so_far_));
+  const bool ranges_select = bias_state_ == BiasState::kEstimated || (bias_state_ == BiasState::kUndecided && ranges_dense_so_far_);
+  motion_.enableScaleSpread(ranges_select);
+  // The bias spread by the same rule (b is fixed at 0 where it does not hold). Not while
+  // replaying the calibrated re-run: b is fixed at its learned value there.
+  motion_.enableBiasSpread(ranges_select && !replaying_);
+  motion_.setBiasSpreadSigma(heading_rate_bias_sigma_rad_s_);
+  if (motion_.biasSpread() && !bias_spread_drawn_) {
+    // The lineages' biases start from the prior's spread about b (the stationary distribution).
+    bias_spread_drawn_ = true;
+    std::normal_distribution<double> normal(0.0, config_.heading_rate_bias_particle_sigma_rad_s);
+    for (int k = 0; k < n; ++k) previous_.bias_deviation_rad_s[k] = normal(rng_);
+  }
   motion_.setControl(odometry, dt_s, calibration_);
   transitions_.push_back({motion_.increment(), motion_.incrementCovariance()});
   if (window_open_) {
@@ -720,7 +731,7 @@ void OnlineEmSlam::calibrationMStep() {
     const double s = h(0, 0) > 0.0 ? g[0] / h(0, 0) : kNaN;
     if (!std::isfinite(s)) return;
     setDistanceScale(s);
-    calibration_.heading_rate_bias_rad_s = 0.0;
+    setHeadingRateBias(0.0);
     heading_rate_bias_sigma_rad_s_ = kNaN;
     setDiagnostic("odometry_distance_scale", s);
     setDiagnostic("heading_rate_bias_rad_s", 0.0);
@@ -731,11 +742,17 @@ void OnlineEmSlam::calibrationMStep() {
   const Eigen::Vector2d x = ldlt.solve(g);
   if (!x.allFinite()) return;
   setDistanceScale(x[0]);
-  calibration_.heading_rate_bias_rad_s = x[1];
+  setHeadingRateBias(x[1]);
   heading_rate_bias_sigma_rad_s_ = std::sqrt(ldlt.solve(Eigen::Matrix2d::Identity())(1, 1));
   setDiagnostic("heading_rate_bias_sigma_rad_s", heading_rate_bias_sigma_rad_s_);
   setDiagnostic("odometry_distance_scale", x[0]);
   setDiagnostic("heading_rate_bias_rad_s", x[1]);
+}
+
+void OnlineEmSlam::setHeadingRateBias(double b_rad_s) {
+  // Each particle keeps its own bias b + beta_k: the deviations are re-expressed about the new b.
+  if (motion_.biasSpread()) particles_.bias_deviation_rad_s += calibration_.heading_rate_bias_rad_s - b_rad_s;
+  calibration_.heading_rate_bias_rad_s = b_rad_s;
 }
 
 void OnlineEmSlam::setDistanceScale(double s) {
@@ -783,7 +800,14 @@ void OnlineEmSlam::correctFrame() {
   // The heading the calibration turns by the window's end counts as well: the landmarks were
   // placed from the whole window, and a window closed early (a landmark placed once its mirror is
   // refuted) turns by b T while its least-squares rotation is only about b T / 2.
-  const double heading_noise_rad = 2.0 * config_.odo_heading_sigma_rad * std::sqrt(static_cast<double>(m));
+  // The window's heading noise under the shared wheel-odometry model (as the early window solve's
+  // walk): per metre driven and per turn, a small per-step floor, so standing still before the
+  // first metre (Plaza 1: ~45 s) adds almost none, where a per-step sigma counted every step.
+  double heading_variance_rad2 = 0.0;
+  for (const Odometry& odometry : window_odometry_)
+    heading_variance_rad2 += estimation::wheelHeadingVariance_rad2(
+        std::hypot(odometry.forward_m, odometry.lateral_m), odometry.delta_heading_rad, estimation::WheelHeadingNoise{});
+  const double heading_noise_rad = 2.0 * std::sqrt(heading_variance_rad2);
   const double end_turn_rad = std::remainder(b.z() - a.z(), 2.0 * M_PI);
   if (!bias_significant && std::abs(angle_rad) < heading_noise_rad && (!config_.init_mirror_test || std::abs(end_turn_rad) < heading_noise_rad)) {
     angle_rad = 0.0;

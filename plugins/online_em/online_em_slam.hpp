@@ -44,8 +44,9 @@
 // error; the part of T not yet applied moves landmarks, particles, the buffered poses, the path
 // so far and the landmark statistics (the quadratic in phi re-parametrised exactly:
 // phi = M phi' + c  =>  A' = M^T A M, v' = M^T (v - A c)). A rotation within twice the heading
-// noise of the window (sigma_h sqrt(steps)) is not significant and is not applied (Plaza 1's
-// learned b ~ 3e-4 rad/s would otherwise turn a correct frame by 0.025 rad).
+// noise of the window (the shared wheel model's, estimation::wheelHeadingVariance_rad2: per metre
+// driven and per turn, so standing still adds almost none) is not significant and is not applied
+// (Plaza 1's learned b ~ 3e-4 rad/s would otherwise turn a correct frame by 0.025 rad).
 //
 // Calibrated re-run (calibrated_rerun, anchor = start_pose): the correction above fits the
 // window's rotation only approximately, and the first landmarks stay placed from an
@@ -64,6 +65,11 @@
 // them; after each M-step d_k is re-expressed about the new s. Where s is observable (anchor =
 // beacons, or no range scale in theta) and the ranges are dense (the bias rule below, and before
 // its 20th range the same rule on the ranges so far).
+//
+// Per-particle heading-rate bias spread (heading_rate_bias_particle_sigma_rad_s, anchor = beacons,
+// off by default): each particle turns with b + beta_k (particle_motion.hpp), beta_k drawn from
+// the bias prior when the ranges become dense, an AR(1) about 0 with the M-step's current sigma_b
+// after; after each M-step beta_k is re-expressed about the new b.
 //
 // Heading-rate bias observability (heading_rate_bias_max_drift_rad, the EKF's rule): b is
 // held at 0 until the 20th range, then estimated only if its prior would turn the heading by
@@ -209,6 +215,8 @@ class OnlineEmSlam : public Estimator {
   void mixtureMStep();
   void calibrationMStep();
   void setDistanceScale(double s);
+  void setHeadingRateBias(double b_rad_s);
+  bool bias_spread_drawn_ = false;  // the per-particle bias deviations drawn from their prior
   void correctFrame();
   void applyFrameMotion(double angle_rad, const Eigen::Vector2d& translation_m);
   void rerun();

@@ -60,6 +60,7 @@ OnlineEmConfig noiseFreeConfig(const std::string& anchor) {
   c.odo_distance_sigma_m = 1e-7;
   c.odo_heading_sigma_rad = 1e-8;
   c.distance_scale_particle_sigma = 0.0;  // no proposal noise at all
+  c.heading_rate_bias_particle_sigma_rad_s = 0.0;
   return c;
 }
 

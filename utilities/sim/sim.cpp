@@ -195,6 +195,7 @@ SimConfig nlos30LawnMowerWorld(uint64_t seed, int num_steps) {
 SimRun simulate(const SimConfig& c) {
   if (c.num_steps < 1) throw std::invalid_argument("num_steps must be >= 1");
   if (c.dt_s <= 0.0) throw std::invalid_argument("dt_s must be > 0");
+  if (!(c.hold_s >= 0.0) || !std::isfinite(c.hold_s)) throw std::invalid_argument("hold_s must be a finite number >= 0");
   for (const RangeGap& gap : c.range_gaps) {
     if (!(gap.start_s >= 0.0) || !std::isfinite(gap.start_s) || !(gap.duration_s > 0.0) ||
         !std::isfinite(gap.duration_s))
@@ -214,6 +215,12 @@ SimRun simulate(const SimConfig& c) {
     case PathKind::kLoop: controls = loopControls(c); break;
     case PathKind::kFigureEight: controls = figureEightControls(c); break;
     case PathKind::kRandomWalk: controls = randomWalkControls(c, rng, run.start); break;
+  }
+  // Standing start: zero steps first, the path after them (num_steps in all).
+  const int hold_steps = std::min(c.num_steps, static_cast<int>(std::lround(c.hold_s / c.dt_s)));
+  if (hold_steps > 0) {
+    controls.insert(controls.begin(), hold_steps, Control{0.0, 0.0});
+    controls.resize(c.num_steps);
   }
 
   // Ground truth and odometry.
@@ -235,8 +242,8 @@ SimRun simulate(const SimConfig& c) {
     const double sigma_d = c.odo_distance_sigma_rel * u.distance_m + c.odo_distance_sigma_m;
     odo.forward_m = std::max(0.0, c.odo_distance_scale * u.distance_m + sigma_d * normal(rng));
     if (c.odo_lateral_sigma_rel > 0.0) odo.lateral_m = c.odo_lateral_sigma_rel * u.distance_m * normal(rng);
-    odo.delta_heading_rad = u.dheading_rad + c.odo_heading_bias_radps * c.dt_s +
-                            c.odo_heading_sigma_rad * normal(rng);
+    const double heading_sigma_rad = k < hold_steps && c.hold_heading_sigma_rad >= 0.0 ? c.hold_heading_sigma_rad : c.odo_heading_sigma_rad;
+    odo.delta_heading_rad = u.dheading_rad + c.odo_heading_bias_radps * c.dt_s + heading_sigma_rad * normal(rng);
     run.odometry.push_back(odo);
     pose = next;
   }

@@ -10,6 +10,9 @@
 // times (the end of an odometry step) to beacons in the world frame:
 //   range = scale * |beacon - robot| + offset + noise,
 // noise ~ N(0, range_sigma) (or the two-component mixture), occasionally replaced by outliers.
+// A standing start (hold_s): the vehicle stands still for the first hold_s seconds (zero true
+// steps; the odometry still carries its heading noise and gyro bias, ranges are still taken),
+// then drives its path; num_steps counts both.
 // Range gaps (every beacon silent for a while) remove the ranges inside them after everything
 // is drawn, so the rest of the run is identical, bit for bit, to the same seed without gaps.
 #pragma once
@@ -50,6 +53,14 @@ struct SimConfig {
   double lane_spacing_m = 5.0;   // lawn-mower distance between lanes
   double loop_radius_m = 15.0;   // loop path radius; each lobe of the figure-8
   double turn_rate_sigma_radps = 0.3;  // random walk: std of the smooth turn-rate process
+  // Standing start: the first round(hold_s / dt_s) steps do not move (a robot waiting before it
+  // drives, like Plaza 1's ~45 s); the path's own steps follow, up to num_steps in all.
+  double hold_s = 0.0;
+  // Heading noise per step while standing (rad; < 0: odo_heading_sigma_rad). A gyro standing
+  // still drifts by its bias and angle random walk only, far less than a driving robot's per-step
+  // heading noise; that noise, accrued before the first metre, turns the whole start frame by an
+  // amount nothing later observes (0.003 rad x sqrt(225 steps) = 0.045 rad: ~2 m at 40 m).
+  double hold_heading_sigma_rad = -1.0;
 
   // Beacons: given, or num_beacons uniform in the box [-margin, W+margin] x [-margin, H+margin]
   // around the area swept by the robot (in the start frame for lawn-mower/random walk).

@@ -1,6 +1,7 @@
 // roam-sim -o LOG [options]: a seeded synthetic run (roam::sim::simulate, utilities/sim/sim.hpp)
 // written as the same kind of log roam-import writes. The same options give the same log.
 #include <boost/program_options.hpp>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -40,6 +41,12 @@ int main(int argc, char** argv) {
       ("start-x", po::value(&start_x)->default_value(0.0), "start pose x (m)")
       ("start-y", po::value(&start_y)->default_value(0.0), "start pose y (m)")
       ("start-heading", po::value(&start_heading)->default_value(0.0), "start pose heading (rad)")
+      ("hold-s", po::value(&c.hold_s)->default_value(c.hold_s),
+       "stand still this many seconds first (odometry keeps its heading noise and gyro bias, "
+       "ranges are taken), then drive the path; --steps counts both")
+      ("hold-heading-sigma", po::value(&c.hold_heading_sigma_rad)->default_value(c.hold_heading_sigma_rad),
+       "heading noise per step while standing (rad; < 0: --odo-heading-sigma); a gyro at rest "
+       "drifts by its bias and angle random walk only")
       ("path", po::value(&path_kind)->default_value(path_kind), "random_walk | lawn_mower | loop | figure8")
       ("area-width", po::value(&c.area_width_m)->default_value(c.area_width_m), "lane length / box width (m)")
       ("area-height", po::value(&c.area_height_m)->default_value(c.area_height_m), "sweep / box height (m)")
@@ -97,6 +104,7 @@ int main(int argc, char** argv) {
     require(c.num_steps > 0, "--steps: expected > 0");
     require(c.dt_s > 0, "--dt: expected > 0");
     require(c.speed_mps >= 0, "--speed: expected >= 0");
+    require(c.hold_s >= 0 && std::isfinite(c.hold_s), "--hold-s: expected a finite number >= 0");
     require(c.range_dropout >= 0 && c.range_dropout <= 1, "--range-dropout: expected in [0, 1]");
     require(c.mixture_weight1 >= 0 && c.mixture_weight1 <= 1, "--mixture-weight: expected in [0, 1]");
     require(c.outlier_fraction >= 0 && c.outlier_fraction <= 1, "--outlier-fraction: expected in [0, 1]");
