@@ -137,7 +137,8 @@ void ParticleMotion::logKernel(const ParticlePoses& previous, const ParticlePose
       if (bias_spread_ && bias_innovation_sigma_rad_s_ > 0.0)
         quadratic += ((next.bias_deviation_rad_s - bias_ar_ * previous.bias_deviation_rad_s[l]) / bias_innovation_sigma_rad_s_).square();
       else if (bias_spread_)  // constant per lineage: only an ancestor with the same deviation
-        quadratic = (next.bias_deviation_rad_s == previous.bias_deviation_rad_s[l]).select(quadratic, kInfinity);
+        for (int k = 0; k < n_next; ++k)
+          if (next.bias_deviation_rad_s[k] != previous.bias_deviation_rad_s[l]) quadratic[k] = kInfinity;
       log_kernel->col(l) = (log_weight[l] - 0.5 * quadratic).matrix();
     }
     return;
