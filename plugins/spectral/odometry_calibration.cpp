@@ -1,4 +1,6 @@
 #include "odometry_calibration.hpp"
+
+#include "roam/estimation/median.hpp"
 #include "roam/estimation/range_model.hpp"
 
 #include <algorithm>
@@ -13,12 +15,6 @@ struct Chunk {
   double matched = 0.0;    // |sum b . R a| (learned . rotated dead reckoning)
   double spread = 0.0;     // sum |a|^2 (dead reckoning): the chunk's weight
 };
-
-double median(std::vector<double> values) {
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + static_cast<long>(mid), values.end());
-  return values[mid];
-}
 
 std::vector<Chunk> chunkFits(const OdometryPath& path, const std::vector<int>& poses,
                              const Eigen::Matrix2Xd& xy_m, double chunk_s) {
@@ -122,7 +118,7 @@ CalibrationFit fitOdometryCalibration(const OdometryPath& path, const std::vecto
       normalised[k] = (chunks[k].angle_rad - fitted) * std::sqrt(chunks[k].spread);
       abs_normalised[k] = std::abs(normalised[k]);
     }
-    const double scale = std::max(1.4826 * median(abs_normalised), 1e-12);
+    const double scale = std::max(1.4826 * estimation::upperMedian(abs_normalised), 1e-12);
     double change = 0.0;
     for (int k = 0; k < K; ++k) {
       const double u = normalised[k] / (kTukeyC * scale);

@@ -6,6 +6,8 @@
 
 #include <Eigen/Dense>
 
+#include "roam/estimation/median.hpp"
+
 namespace roam::spectral {
 namespace {
 
@@ -13,13 +15,6 @@ constexpr int kAlternations = 4;
 constexpr int kGaussNewtonSteps = 10;
 constexpr double kTukeyC = 4.685;
 constexpr double kMinScale_m = 0.01;
-
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + static_cast<long>(mid), values.end());
-  return values[mid];
-}
 
 // m re-fitted to ranges (already (r - o) / kappa) from the positions `at`.
 Eigen::Vector2d refitBeacon(Eigen::Vector2d m, const std::vector<Eigen::Vector2d>& at,
@@ -30,7 +25,7 @@ Eigen::Vector2d refitBeacon(Eigen::Vector2d m, const std::vector<Eigen::Vector2d
       e[i] = range_m[i] - (at[i] - m).norm();
       abs_e[i] = std::abs(e[i]);
     }
-    const double scale_m = std::max(kMinScale_m, 1.4826 * median(abs_e));
+    const double scale_m = std::max(kMinScale_m, 1.4826 * estimation::upperMedian(abs_e));
     Eigen::Matrix2d H = Eigen::Matrix2d::Zero();
     Eigen::Vector2d g = Eigen::Vector2d::Zero();
     for (size_t i = 0; i < range_m.size(); ++i) {
@@ -101,13 +96,13 @@ std::vector<SmootherRange> smootherRanges(const SpectralProblem& problem, const 
         const double distance_m = (at[n][i] - m[n]).norm();
         if (distance_m > 0.0) ratio.push_back((raw_m[n][i] - offset_m[n]) / distance_m);
       }
-    if (!ratio.empty()) kappa = median(ratio);
+    if (!ratio.empty()) kappa = estimation::upperMedian(ratio);
     if (!(kappa > 0.0)) kappa = 1.0;
     for (int n = 0; n < N; ++n) {
       if (raw_m[n].empty()) continue;
       std::vector<double> error;
       for (size_t i = 0; i < raw_m[n].size(); ++i) error.push_back(raw_m[n][i] - kappa * (at[n][i] - m[n]).norm());
-      offset_m[n] = median(error);
+      offset_m[n] = estimation::upperMedian(error);
       if (held[n] || raw_m[n].size() < 3) continue;
       std::vector<double> corrected;
       for (double r : raw_m[n]) corrected.push_back((r - offset_m[n]) / kappa);
@@ -123,7 +118,7 @@ std::vector<SmootherRange> smootherRanges(const SpectralProblem& problem, const 
       range.beacon_y_m = m[n](1);
       abs_e.push_back(std::abs(range.range_m - (at[n][i] - m[n]).norm()));
     }
-  *range_sigma_m = 1.4826 * median(abs_e);
+  *range_sigma_m = 1.4826 * estimation::upperMedian(abs_e);
   return out;
 }
 

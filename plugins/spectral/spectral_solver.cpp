@@ -9,6 +9,7 @@
 #include <string>
 
 #include "gap_fill.hpp"
+#include "roam/estimation/median.hpp"
 #include "odometry_calibration.hpp"
 #include "odometry_smoother.hpp"
 #include "smoother_ranges.hpp"
@@ -252,13 +253,6 @@ double effectiveWindowSeconds(const SpectralProblem& problem, const SpectralConf
 namespace {
 
 // Steps 1-3 on one dead-reckoned path, config.window_s already the effective window.
-double medianOf(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + static_cast<long>(mid), values.end());
-  return values[mid];
-}
-
 // Per range, in problem.ranges order: range - scale_n |p(t) - m| - offset_n for the solution, p(t)
 // linear between the solved poses, m the surveyed beacon (anchor = beacons) or the learned one;
 // NaN for a range beyond the trajectory (online: a prefix of the path).
@@ -289,9 +283,9 @@ std::vector<double> rangeResiduals(const SpectralProblem& problem, const Spectra
     std::vector<double> ratio, error;
     for (size_t i = 0; i < range_m[n].size(); ++i)
       if (distance_m[n][i] > 0.0) ratio.push_back(range_m[n][i] / distance_m[n][i]);
-    const double scale = ratio.empty() ? 1.0 : medianOf(ratio);
+    const double scale = ratio.empty() ? 1.0 : estimation::upperMedian(ratio);
     for (size_t i = 0; i < range_m[n].size(); ++i) error.push_back(range_m[n][i] - scale * distance_m[n][i]);
-    const double offset = medianOf(error);
+    const double offset = estimation::upperMedian(error);
     for (size_t i = 0; i < error.size(); ++i) residual[index[n][i]] = error[i] - offset;
   }
   return residual;
@@ -303,7 +297,7 @@ double globalMedianResidual(const SpectralProblem& problem, const SpectralConfig
   std::vector<double> residual;
   for (double e : rangeResiduals(problem, config, trajectory, learned_beacons))
     if (!std::isnan(e)) residual.push_back(std::abs(e));
-  return medianOf(residual);
+  return estimation::upperMedian(residual);
 }
 
 struct SolvePass {
@@ -330,7 +324,7 @@ SolvePass solvePass(const SpectralProblem& problem, const SpectralConfig& config
       if (interpolator.halfSquaredRange(r.beacon, k, &value))
         local.push_back(std::abs(r.range_m - std::sqrt(std::max(0.0, 2.0 * value))));
     }
-    pass.local_median_m = medianOf(local);
+    pass.local_median_m = estimation::upperMedian(local);
     const double cut_m = 3.0 * std::max(1.4826 * pass.local_median_m, 0.01);
     const auto beyond = std::count_if(local.begin(), local.end(), [&](double e) { return e > cut_m; });
     pass.outlier_fraction = local.empty() ? 0.0 : static_cast<double>(beyond) / static_cast<double>(local.size());
@@ -653,7 +647,7 @@ SpectralSolution solveUnsmoothed(const SpectralProblem& problem, const SpectralC
   std::vector<double> magnitude;
   for (double e : residual)
     if (!std::isnan(e)) magnitude.push_back(std::abs(e));
-  const double cut_m = config.outlier_drop_sigmas * std::max(1.4826 * medianOf(magnitude), config.range_sigma_m);
+  const double cut_m = config.outlier_drop_sigmas * std::max(1.4826 * estimation::upperMedian(magnitude), config.range_sigma_m);
   SpectralProblem clean = problem;
   clean.ranges.clear();
   for (size_t i = 0; i < problem.ranges.size(); ++i)
