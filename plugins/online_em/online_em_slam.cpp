@@ -199,7 +199,8 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
     for (int k = 0; k < n; ++k) previous_.bias_deviation_rad_s[k] = normal(rng_);
   }
   motion_.setControl(odometry, dt_s, calibration_);
-  transitions_.push_back({motion_.increment(), motion_.incrementCovariance()});
+  // What the backward pass needs, only where it runs (~140 bytes a step).
+  if (config_.smoothing(config_.anchor)) transitions_.push_back({motion_.increment(), motion_.incrementCovariance()});
   if (window_open_) {
     window_odometry_.push_back(odometry);
     window_dt_s_.push_back(dt_s);
