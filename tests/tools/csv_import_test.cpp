@@ -155,6 +155,7 @@ TEST(CsvImport, OdometryFromPathWithoutHeadingStartsAlongTheStartPose) {
 }
 
 TEST(CsvImport, RealPlaza1HasTheCountsOfTheReadme) {
+  ROAM_SKIP_WITHOUT_SHARED_DATA(kPlaza1);
   const roam::Dataset d = roam::loadCsvDataset(kPlaza1);
   EXPECT_EQ(d.odometry.size(), 9657u);
   EXPECT_EQ(d.ranges.size(), 3529u);

@@ -99,6 +99,7 @@ std::string bytes(const std::string& path) {
 }
 
 TEST(Plaza1Logs, AreWhatTheImportWritesToday) {
+  ROAM_SKIP_WITHOUT_SHARED_DATA(kPlaza1);
   roam_test::ScratchDir dir;
   roam::writeDatasetLog(dir.file("a.lcmlog"), roam::loadCsvDataset(kPlaza1));
   roam::CsvImportOptions drpath;

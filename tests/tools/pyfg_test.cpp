@@ -16,6 +16,7 @@ const std::string kGoats = std::string(ROAM_SOURCE_DIR) + "/../shared/data/goats
 constexpr double kTolerance_m = 1e-9;
 
 TEST(Pyfg, ReadsGoats16) {
+  ROAM_SKIP_WITHOUT_SHARED_DATA(kGoats);
   const roam::PyfgImport imported = roam::loadPyfgDataset(kGoats);
   const roam::Dataset& d = imported.dataset;
   // README of the data: 201 poses, 200 odometry edges, 572 ranges, 4 beacons, 1,473 s.
@@ -47,6 +48,7 @@ TEST(Pyfg, ReadsGoats16) {
 }
 
 TEST(Pyfg, DeadReckoningIsTheCompositionOfTheFilesOwnEdges) {
+  ROAM_SKIP_WITHOUT_SHARED_DATA(kGoats);
   // Compose the file's edges by hand in the file's own frame (x' = x + cos(t) dx - sin(t) dy),
   // from its first pose, and compare with roam's motion model over the imported odometry, with
   // either body axis: the positions must agree to 1e-9 m.
@@ -90,6 +92,7 @@ TEST(Pyfg, DeadReckoningIsTheCompositionOfTheFilesOwnEdges) {
 }
 
 TEST(Pyfg, WritingAndReadingBackReproducesEveryPoseBeaconAndRange) {
+  ROAM_SKIP_WITHOUT_SHARED_DATA(kGoats);
   roam_test::ScratchDir dir;
   for (roam::ForwardAxis axis : {roam::ForwardAxis::kX, roam::ForwardAxis::kY}) {
     roam::PyfgImportOptions read_options;
@@ -181,6 +184,7 @@ TEST(Pyfg, WhatIsNotSupportedIsRefusedNamingTheLine) {
 }
 
 TEST(Pyfg, RoamImportTakesAPyfgFile) {
+  ROAM_SKIP_WITHOUT_SHARED_DATA(kGoats);
   roam_test::ScratchDir dir;
   const auto result = roam_test::runTool(roam_test::tool("roam-import") + " " + kGoats + " -o " + dir.file("g.lcmlog"));
   EXPECT_EQ(result.status, 0) << result.out;

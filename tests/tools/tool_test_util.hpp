@@ -53,3 +53,8 @@ inline ToolResult runTool(const std::string& command_line) {
 inline std::string tool(const std::string& name) { return std::string(ROAM_BINARY_DIR) + "/bin/" + name; }
 
 }  // namespace roam_test
+
+// The project's real data (Plaza 1, GOATS 16) sits in ../shared beside a development checkout, not
+// in the repository; a clone without it skips the tests that read it, saying so.
+#define ROAM_SKIP_WITHOUT_SHARED_DATA(path) \
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << (path) << " beside the repository (the shared data)"
