@@ -40,6 +40,11 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
   options.add("heading_rate_bias_max_drift_rad", &c->heading_rate_bias_max_drift_rad,
               "fix the heading-rate bias at 0 if its prior turns the heading more than this between position fixes (0: always estimate)")
       .min(0.0);
+  options.add("standing_max_speed_mps", &c->standing_max_speed_mps,
+              "a step slower than this whose turn rate is under standing_max_turn_rate_rad_s stood still: it turns by 0 (0: off)")
+      .min(0.0);
+  options.add("standing_max_turn_rate_rad_s", &c->standing_max_turn_rate_rad_s,
+              "a reported turn rate above this is a turn, even standing still").min(0.0);
   options.add("calibrated_rerun", &c->calibrated_rerun,
               "start_pose: re-run once from the start with the learned calibration");
   options.add("smooth_trajectory", &c->smooth_trajectory,

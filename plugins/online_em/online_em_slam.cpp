@@ -52,6 +52,8 @@ OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
   mixture_weight0_ = config_.mixture_weight0;
   inlier_sigma0_ = config_.mixture_sigma0;
   if (config_.heading_rate_bias_max_drift_rad <= 0.0) bias_state_ = BiasState::kEstimated;
+  calibration_.standing_max_speed_mps = config_.standing_max_speed_mps;
+  calibration_.standing_max_turn_rate_rad_s = config_.standing_max_turn_rate_rad_s;
   setDiagnostic("num_particles", n);
 }
 

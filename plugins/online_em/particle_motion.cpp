@@ -23,6 +23,9 @@ void ParticleMotion::setControl(const Odometry& odometry, double dt_s,
     raw_ = odometry;
     dt_s_ = dt_s;
     increment_ = estimation::calibratedIncrement(odometry, dt_s, calibration);
+    // Standing still the particles do not turn, their own bias deviation included; the
+    // calibration statistic keeps J = (0, -dt) and the reported turn, so a stand observes b.
+    bias_dt_s_ = estimation::standingStill(odometry, dt_s, calibration) ? 0.0 : dt_s;
     scale_spread_ = scaleSpread();
     if (scale_spread_) {
       // Correlation over the distance travelled: a = exp(-|q_uv| / L).
@@ -92,7 +95,7 @@ void ParticleMotion::sample(const ParticlePoses& previous, int from, ParticlePos
     if (bias_spread_) {
       const double beta = bias_ar_ * previous.bias_deviation_rad_s[from] + bias_innovation_sigma_rad_s_ * normal(rng);
       next->bias_deviation_rad_s[to] = beta;
-      increment[2] -= beta * dt_s_;
+      increment[2] -= beta * bias_dt_s_;
     } else {
       next->bias_deviation_rad_s[to] = 0.0;
     }
@@ -129,7 +132,7 @@ void ParticleMotion::logKernel(const ParticlePoses& previous, const ParticlePose
       const Eigen::ArrayXd e_f = c * dx + s * dy - factor * increment_[0];
       const Eigen::ArrayXd e_l = c * dy - s * dx - factor * increment_[1];
       Eigen::ArrayXd e_h = next.heading_rad - previous.heading_rad[l] - increment_[2];
-      if (bias_spread_) e_h += next.bias_deviation_rad_s * dt_s_;
+      if (bias_spread_) e_h += next.bias_deviation_rad_s * bias_dt_s_;
       Eigen::ArrayXd quadratic = w(0, 0) * e_f.square() + w(1, 1) * e_l.square() + w(2, 2) * e_h.square() +
                                  2.0 * (w(0, 1) * e_f * e_l + w(0, 2) * e_f * e_h + w(1, 2) * e_l * e_h);
       if (spread && scale_innovation_sigma_ > 0.0)

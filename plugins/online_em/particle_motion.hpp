@@ -4,7 +4,8 @@
 //
 // "odometry" (roam's shared SE(2) model, roam::estimation::composeIncrement): the calibrated
 //   increment q = calibratedIncrement(u, dt, (s, b)) = (s u, s v, w - b dt) of the reported
-//   (forward u, lateral v, turn w) plus noise e ~ N(0, Q), Q = incrementCovariance (the
+//   (forward u, lateral v, turn w; q_w = 0 on a step the vehicle stood still through, the shared
+//   standing rule: standing_max_speed_mps) plus noise e ~ N(0, Q), Q = incrementCovariance (the
 //   configured rates, or the reported covariance floored by them):
 //     x_t = x (+) (q + e),   i.e. p_t = p + R(th) (q_uv + e_uv),  th_t = th + q_w + e_w.
 //   The inverse is exact: e = (R(th)^T (p_t - p), th_t - th) - q, so
@@ -15,9 +16,10 @@
 //   translation part of q is multiplied by (1 + d_t); the density adds -1/2 e_d^2 to log m.
 //   Per-particle bias deviation beta (heading_rate_bias_particle_sigma_rad_s > 0): the state also holds
 //   beta, beta_t = a beta_{t-1} + sqrt(1 - a^2) sigma_beta e_beta, a = exp(-dt / heading_rate_bias_particle_time_s),
-//   and the turn of q is w - (b + beta_t) dt; the density adds -1/2 e_beta^2 to log m.
+//   and the turn of q is w - (b + beta_t) dt (0 standing still); the density adds -1/2 e_beta^2 to log m.
 //   Calibration statistic (odometry_calibration.hpp): e is linear in (s, b),
-//     e = z - J (s, b),  z = (R(th)^T (p_t - p), th_t - th - w),  J = [[u, 0], [v, 0], [0, -dt]].
+//     e = z - J (s, b),  z = (R(th)^T (p_t - p), th_t - th - w),  J = [[u, 0], [v, 0], [0, -dt]]
+//   (standing still too: the particles do not turn, so the step observes w = b dt).
 // "bicycle" (the paper's f, wheelbase B): controls (v, psi) from (d, dth) = (v dt, v dt sin(psi)/B),
 //   noisy controls v^ = v + e_v, psi^ = psi + e_psi, Q = diag(sigma_v^2, sigma_psi^2):
 //   x_t = x + v^ dt cos(th + psi^),  y_t = y + v^ dt sin(th + psi^),  th_t = th + v^ dt sin(psi^)/B
@@ -100,6 +102,7 @@ class ParticleMotion {
   // (sampling) and information matrix (density).
   Odometry raw_;
   double dt_s_ = 0.0;
+  double bias_dt_s_ = 0.0;  // dt, or 0 on a step the vehicle stood still through
   Eigen::Vector3d increment_ = Eigen::Vector3d::Zero();
   Eigen::Matrix3d noise_factor_ = Eigen::Matrix3d::Zero(), information_ = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d covariance_ = Eigen::Matrix3d::Zero();

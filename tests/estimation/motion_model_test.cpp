@@ -52,6 +52,31 @@ TEST(MotionModel, CalibrationScalesTheDistanceAndRemovesTheGyroBias) {
   EXPECT_NEAR(inc[2], 0.48, kTolerance);
 }
 
+TEST(MotionModel, StandingStillTurnsByNothingWhateverTheGyroReports) {
+  // Rule: slower than 0.01 m/s and turning slower than 0.05 rad/s. Over 0.2 s: 1 mm and
+  // 0.002 rad (a 0.01 rad/s gyro bias) stand still; 3 mm (0.015 m/s) or 0.012 rad (0.06 rad/s,
+  // a turn on the spot) do not; dt = 0 never does; the rule off (0) never does.
+  OdometryCalibration calibration;
+  calibration.distance_scale = 1.1;
+  calibration.heading_rate_bias_rad_s = 0.004;
+  calibration.standing_max_speed_mps = 0.01;
+  calibration.standing_max_turn_rate_rad_s = 0.05;
+  const Eigen::Vector3d standing = calibratedIncrement(makeStep(0.001, 0.0, 0.002), 0.2, calibration);
+  EXPECT_TRUE(standingStill(makeStep(0.001, 0.0, 0.002), 0.2, calibration));
+  EXPECT_NEAR(standing[0], 0.0011, kTolerance);
+  EXPECT_EQ(standing[2], 0.0);
+  EXPECT_FALSE(standingStill(makeStep(0.003, 0.0, 0.002), 0.2, calibration));
+  EXPECT_NEAR(calibratedIncrement(makeStep(0.003, 0.0, 0.002), 0.2, calibration)[2], 0.002 - 0.0008, kTolerance);
+  EXPECT_FALSE(standingStill(makeStep(0.0, 0.0, -0.012), 0.2, calibration));
+  EXPECT_NEAR(calibratedIncrement(makeStep(0.0, 0.0, -0.012), 0.2, calibration)[2], -0.012 - 0.0008, kTolerance);
+  EXPECT_FALSE(standingStill(makeStep(0.0, 0.0, 0.0), 0.0, calibration));
+  // Standing still the bias moves nothing: its Jacobian column is zero.
+  EXPECT_EQ(stepJacobians(Eigen::Vector3d(1, 2, 0.3), makeStep(0.001, 0.0, 0.002), 0.2, calibration).wrt_calibration(2, 1), 0.0);
+  calibration.standing_max_speed_mps = 0.0;
+  EXPECT_FALSE(standingStill(makeStep(0.0, 0.0, 0.002), 0.2, calibration));
+  EXPECT_NEAR(calibratedIncrement(makeStep(0.0, 0.0, 0.002), 0.2, calibration)[2], 0.002 - 0.0008, kTolerance);
+}
+
 TEST(MotionModel, JacobiansMatchCentralDifferences) {
   const Eigen::Vector3d pose(0.3, -1.2, 2.1);
   const Odometry odometry = makeStep(1.7, -0.4, 0.2);
