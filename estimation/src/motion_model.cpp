@@ -6,15 +6,9 @@
 namespace roam {
 namespace estimation {
 
-bool standingStill(const Odometry& odometry, double dt_s, const OdometryCalibration& calibration) {
-  if (!(calibration.standing_max_speed_mps > 0.0) || !(dt_s > 0.0)) return false;
-  return std::hypot(odometry.forward_m, odometry.lateral_m) < calibration.standing_max_speed_mps * dt_s &&
-         std::abs(odometry.delta_heading_rad) < calibration.standing_max_turn_rate_rad_s * dt_s;
-}
-
 Eigen::Vector3d calibratedIncrement(const Odometry& odometry, double dt_s,
-                                    const OdometryCalibration& calibration) {
-  const double turn_rad = standingStill(odometry, dt_s, calibration)
+                                    const OdometryCalibration& calibration, bool standing_still) {
+  const double turn_rad = standing_still
                               ? 0.0
                               : odometry.delta_heading_rad - calibration.heading_rate_bias_rad_s * dt_s;
   return {calibration.distance_scale * odometry.forward_m, calibration.distance_scale * odometry.lateral_m, turn_rad};
@@ -38,8 +32,8 @@ Pose step(const Pose& pose, const Odometry& odometry) {
 }
 
 StepJacobians stepJacobians(const Eigen::Vector3d& pose, const Odometry& odometry, double dt_s,
-                            const OdometryCalibration& calibration) {
-  const Eigen::Vector3d inc = calibratedIncrement(odometry, dt_s, calibration);
+                            const OdometryCalibration& calibration, bool standing_still) {
+  const Eigen::Vector3d inc = calibratedIncrement(odometry, dt_s, calibration, standing_still);
   const double c = std::cos(pose[2]), s = std::sin(pose[2]);
   StepJacobians j;
   j.wrt_pose << 1, 0, -s * inc[0] - c * inc[1],  //
@@ -50,7 +44,7 @@ StepJacobians stepJacobians(const Eigen::Vector3d& pose, const Odometry& odometr
       0, 0, 1;
   j.wrt_calibration << c * odometry.forward_m - s * odometry.lateral_m, 0,  //
       s * odometry.forward_m + c * odometry.lateral_m, 0,                   //
-      0, standingStill(odometry, dt_s, calibration) ? 0.0 : -dt_s;
+      0, standing_still ? 0.0 : -dt_s;
   return j;
 }
 

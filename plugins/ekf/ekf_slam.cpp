@@ -43,6 +43,7 @@ EkfSlam::EkfSlam(const EkfConfig& config) : config_(config) {
   init_config_.mirror_chi2 = config_.init_mirror_chi2;
   gate_range_chi2_ = chiSquareQuantile(1, config_.gate_probability);
   gate_range_bearing_chi2_ = chiSquareQuantile(2, config_.gate_probability);
+  standstill_ = estimation::Standstill({config_.stationary_speed_mps, config_.stationary_min_steps, gate_range_chi2_});
 }
 
 void EkfSlam::start(const Pose& pose) {
@@ -307,28 +308,9 @@ estimation::MotionNoise EkfSlam::motionNoise(const Odometry& odo) const {
 }
 
 bool EkfSlam::confirmStandstill(const Odometry& odo, double dt_s) {
-  // A vehicle at rest turns at the bias rate, the same rate step after step; a slow vehicle
-  // (an AUV drifting at 2 cm/s, a boat turning on the spot) turns at rates that change from step
-  // to step by far more than the gyro's noise. So a step below stationary_speed_mps is taken as
-  // standing still only when it ends stationary_min_steps slow steps in a row, each turning at a
-  // rate that agrees with the one before within the gate (chi-square, 1 dof) of their noise (one
-  // pair agreeing by chance is not enough). Odometry only: the same on every re-run.
-  const bool slow = config_.stationary_speed_mps > 0.0 && dt_s > 0.0 &&
-                    std::hypot(odo.forward_m, odo.lateral_m) <= config_.stationary_speed_mps * dt_s;
-  if (!slow) {
-    previous_stationary_ = false;
-    agreeing_steps_ = 0;
-    return false;
-  }
-  const double var_turn = estimation::incrementCovariance(odo, dt_s, motionNoise(odo))(2, 2);
-  const double rate = odo.delta_heading_rad / dt_s, rate_var = var_turn / (dt_s * dt_s);
-  const bool agree = previous_stationary_ && std::pow(rate - previous_rate_rad_s_, 2) <=
-                                                 gate_range_chi2_ * (rate_var + previous_rate_var_);
-  agreeing_steps_ = agree ? agreeing_steps_ + 1 : 0;
-  previous_stationary_ = true;
-  previous_rate_rad_s_ = rate;
-  previous_rate_var_ = rate_var;
-  return agreeing_steps_ + 1 >= config_.stationary_min_steps;
+  // The shared rule (estimation::Standstill; stationary_speed_mps, stationary_min_steps, the
+  // range gate): slow steps in a row, each turning at the rate of the one before.
+  return standstill_.confirm(odo, dt_s, estimation::incrementCovariance(odo, dt_s, motionNoise(odo))(2, 2));
 }
 
 bool EkfSlam::stationaryBiasUpdate(const Odometry& odo, double dt_s, double var_turn_rad2) {

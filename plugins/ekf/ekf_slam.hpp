@@ -50,6 +50,7 @@
 #include "ekf_joint_bias.hpp"
 #include "roam/estimation/motion_model.hpp"
 #include "roam/estimation/multilateration.hpp"
+#include "roam/estimation/standstill.hpp"
 #include "roam/estimator.hpp"
 
 namespace roam {
@@ -203,10 +204,7 @@ class EkfSlam : public Estimator {
   int64_t calibration_reruns_ = 0;
   int64_t fresh_reruns_ = 0;              // of which re-initialised every beacon (rerunWithCalibration)
   int64_t stationary_updates_ = 0;
-  bool previous_stationary_ = false;       // the previous step was below stationary_speed_mps
-  int agreeing_steps_ = 0;                 // slow steps in a row whose rate agreed with the one before
-  double previous_rate_rad_s_ = 0.0;       // and its turn rate, with the rate's variance
-  double previous_rate_var_ = 0.0;
+  estimation::Standstill standstill_;  // confirmStandstill: the shared standstill rule
 };
 
 }  // namespace ekf

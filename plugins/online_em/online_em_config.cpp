@@ -40,10 +40,11 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
   options.add("heading_rate_bias_max_drift_rad", &c->heading_rate_bias_max_drift_rad,
               "fix the heading-rate bias at 0 if its prior turns the heading more than this between position fixes (0: always estimate)")
       .min(0.0);
-  options.add("standing_max_speed_mps", &c->standing_max_speed_mps,
-              "a step slower than this whose turn rate is under standing_max_turn_rate_rad_s stood still: it turns by 0 (0: off)")
+  options.add("stationary_speed_mps", &c->stationary_speed_mps,
+              "below this speed (in stationary_min_steps steps in a row turning at one rate) the vehicle stands still and turns by 0 (0: never)")
       .min(0.0);
-  options.add("standing_max_turn_rate_rad_s", &c->standing_max_turn_rate_rad_s,
+  options.add("stationary_min_steps", &c->stationary_min_steps, "slow steps in a row turning at one rate before a standstill").min(1);
+  options.add("stationary_max_turn_rate_rad_s", &c->stationary_max_turn_rate_rad_s,
               "a reported turn rate above this is a turn, even standing still").min(0.0);
   options.add("calibrated_rerun", &c->calibrated_rerun,
               "start_pose: re-run once from the start with the learned calibration");

@@ -109,14 +109,17 @@ struct OnlineEmConfig {
   // do not. Until the 20th range b is held at 0 (its statistics accumulate all along).
   // 0: always estimate.
   double heading_rate_bias_max_drift_rad = 0.05;
-  // A vehicle standing still does not turn (the shared motion model's standing rule,
-  // estimation::OdometryCalibration): a step slower than standing_max_speed_mps (an encoder's
-  // creep at rest: Plaza 1 ~1 mm/s; vehicles move at >= 0.1 m/s) whose reported turn rate is
-  // under standing_max_turn_rate_rad_s (5 x the bias prior's sigma: a rate no gyro bias reaches;
-  // a turn on the spot is faster) turns the particles by 0. The calibration statistic then sees
-  // the reported turn as bias alone, so a stand measures b before the vehicle moves. 0 = off.
-  double standing_max_speed_mps = 0.01;
-  double standing_max_turn_rate_rad_s = 0.05;
+  // A vehicle standing still does not turn. A standstill by the shared rule
+  // (roam/estimation/standstill.hpp: stationary_min_steps steps in a row slower than
+  // stationary_speed_mps, each turning at the rate of the one before within 3 sigma; the EKF's
+  // keys) whose reported turn rate is under stationary_max_turn_rate_rad_s (5 x the bias prior's
+  // sigma: a rate no gyro bias reaches; a turn on the spot is faster) turns the particles by 0,
+  // and the calibration statistic sees its reported turn as bias alone: a stand measures b
+  // before the vehicle moves. Values differ from the EKF's (0.02 m/s, 5 steps): see the README,
+  // "Round 9". 0 = never.
+  double stationary_speed_mps = 0.01;
+  int stationary_min_steps = 1;
+  double stationary_max_turn_rate_rad_s = 0.05;
   // Calibrated re-run (anchor = start_pose): once the heading-rate bias is known to
   // rerun_bias_sigma_fraction of its prior sigma and the frame it implies is significant (the
   // frame correction's gate), the filter is run once more from the start on the inputs so far

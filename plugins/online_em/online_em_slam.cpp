@@ -18,6 +18,10 @@ namespace online_em {
 
 namespace {
 
+// The standstill rule's agreement gate between consecutive turn rates (3 sigma; it matters only
+// with stationary_min_steps > 1).
+constexpr double kStandstillGateChi2 = 9.0;
+
 // Normalises log-weights in place to weights summing to 1 (log-sum-exp).
 // Normalised weights from log weights. A NaN log weight (a likelihood that could not be
 // evaluated) counts as zero likelihood; if no particle has a finite log weight (every likelihood
@@ -52,8 +56,7 @@ OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
   mixture_weight0_ = config_.mixture_weight0;
   inlier_sigma0_ = config_.mixture_sigma0;
   if (config_.heading_rate_bias_max_drift_rad <= 0.0) bias_state_ = BiasState::kEstimated;
-  calibration_.standing_max_speed_mps = config_.standing_max_speed_mps;
-  calibration_.standing_max_turn_rate_rad_s = config_.standing_max_turn_rate_rad_s;
+  standstill_ = estimation::Standstill({config_.stationary_speed_mps, config_.stationary_min_steps, kStandstillGateChi2});
   setDiagnostic("num_particles", n);
 }
 
@@ -66,6 +69,7 @@ void OnlineEmSlam::start(const Pose& pose) {
   particles_.heading_rad.setConstant(pose.heading_rad);
   particles_.scale_deviation.setZero();
   particles_.bias_deviation_rad_s.setZero();
+  standstill_.reset();
   weights_.setConstant(1.0 / config_.num_particles);
   setState(EstimatorState::kTracking);
   publish(pose.utime);
@@ -200,12 +204,14 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
     std::normal_distribution<double> normal(0.0, config_.heading_rate_bias_particle_sigma_rad_s);
     for (int k = 0; k < n; ++k) previous_.bias_deviation_rad_s[k] = normal(rng_);
   }
-  motion_.setControl(odometry, dt_s, calibration_);
+  const bool standing = standingStill(&standstill_, odometry, dt_s);
+  motion_.setControl(odometry, dt_s, calibration_, standing);
   // What the backward pass needs, only where it runs (~140 bytes a step).
   if (config_.smoothing(config_.anchor)) transitions_.push_back({motion_.increment(), motion_.incrementCovariance()});
   if (window_open_) {
     window_odometry_.push_back(odometry);
     window_dt_s_.push_back(dt_s);
+    window_standing_.push_back(standing);
   }
   for (int l = 0; l < n; ++l) motion_.sample(previous_, ancestor_index_[l], &particles_, l, rng_);
 
@@ -699,6 +705,14 @@ void OnlineEmSlam::adaptMotionNoise(const std::vector<StepObservation>& observat
   motion_noise_scale_ = std::sqrt(scale2);
   motion_.setTranslationNoiseScale(motion_noise_scale_);
   setDiagnostic("motion_noise_scale", motion_noise_scale_);
+}
+
+bool OnlineEmSlam::standingStill(estimation::Standstill* standstill, const Odometry& odometry, double dt_s) const {
+  // A standstill by the shared rule (odometry only) whose reported turn rate is one no gyro
+  // bias reaches: a turn on the spot is a turn.
+  if (config_.motion_model != OnlineEmConfig::MotionModel::kOdometry) return false;
+  if (!standstill->confirm(odometry, dt_s, motion_.noiseCovariance(odometry, dt_s)(2, 2))) return false;
+  return std::abs(odometry.delta_heading_rad) < config_.stationary_max_turn_rate_rad_s * dt_s;
 }
 
 void OnlineEmSlam::checkBiasObservable(int64_t range_utime) {

@@ -131,6 +131,7 @@
 #include "observation_model.hpp"
 #include "online_em_config.hpp"
 #include "roam/estimation/pose_smoother.hpp"
+#include "roam/estimation/standstill.hpp"
 #include "roam/estimation/window_solve.hpp"
 #include "roam/estimator.hpp"
 
@@ -255,6 +256,8 @@ class OnlineEmSlam : public Estimator {
   Pose start_pose_;
   std::vector<Odometry> window_odometry_;
   std::vector<double> window_dt_s_;
+  std::vector<bool> window_standing_;  // the window's steps the vehicle stood still through
+  estimation::Standstill standstill_;  // the forward pass's standstill detector
   bool window_open_ = true;
   double frame_angle_rad_ = 0.0;
   Eigen::Vector2d frame_translation_m_ = Eigen::Vector2d::Zero();
@@ -274,6 +277,7 @@ class OnlineEmSlam : public Estimator {
   bool recording_ = false, rerun_pending_ = false, replaying_ = false;
   double heading_rate_bias_sigma_rad_s_ = kNaN;
   estimation::OdometryCalibration window_calibration_;  // the early window was dead-reckoned with it
+  bool window_stands_calibrated_ = false;               // ... and with the standing rule (after a re-run)
   int64_t observing_steps_ = 0;
   // Heading-rate bias observability (heading_rate_bias_max_drift_rad): the first ranges' times.
   enum class BiasState { kUndecided, kEstimated, kFixed };
@@ -282,6 +286,9 @@ class OnlineEmSlam : public Estimator {
   bool ranges_dense_so_far_ = false;
   int64_t rate_first_utime_ = 0, rate_last_utime_ = 0;
   void checkBiasObservable(int64_t range_utime);
+  // Whether the step is one the vehicle stood still through (stationary_speed_mps): the
+  // detector's confirmed standstill, at a rate the bias prior allows about the current b.
+  bool standingStill(estimation::Standstill* standstill, const Odometry& odometry, double dt_s) const;
   // Adaptive motion noise (adapt_motion_noise): running averages of pi (e^2 - sr^2 - v_map)
   // and pi v / kappa^2 over the ranges, and the scale kappa.
   void adaptMotionNoise(const std::vector<StepObservation>& observations);

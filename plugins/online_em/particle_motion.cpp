@@ -13,8 +13,19 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 }  // namespace
 
+Eigen::Matrix3d ParticleMotion::noiseCovariance(const Odometry& odometry, double dt_s) const {
+  estimation::MotionNoise noise;
+  noise.distance_fraction = config_.odo_distance_sigma_rel;
+  noise.min_sigma_m = config_.odo_distance_sigma_m;
+  noise.heading_rad_per_m = 0.0;
+  noise.heading_rad_per_sqrt_s = 0.0;
+  noise.min_sigma_rad = config_.odo_heading_sigma_rad;
+  noise.use_reported_covariance = config_.use_reported_covariance;
+  return estimation::incrementCovariance(odometry, dt_s, noise);
+}
+
 void ParticleMotion::setControl(const Odometry& odometry, double dt_s,
-                             const estimation::OdometryCalibration& calibration) {
+                             const estimation::OdometryCalibration& calibration, bool standing_still) {
   bicycle_ = config_.motion_model == OnlineEmConfig::MotionModel::kBicycle;
   const double distance_m = odometry.forward_m, dheading_rad = odometry.delta_heading_rad;
   distance_m_ = distance_m;
@@ -22,10 +33,10 @@ void ParticleMotion::setControl(const Odometry& odometry, double dt_s,
   if (!bicycle_) {
     raw_ = odometry;
     dt_s_ = dt_s;
-    increment_ = estimation::calibratedIncrement(odometry, dt_s, calibration);
+    increment_ = estimation::calibratedIncrement(odometry, dt_s, calibration, standing_still);
     // Standing still the particles do not turn, their own bias deviation included; the
     // calibration statistic keeps J = (0, -dt) and the reported turn, so a stand observes b.
-    bias_dt_s_ = estimation::standingStill(odometry, dt_s, calibration) ? 0.0 : dt_s;
+    bias_dt_s_ = standing_still ? 0.0 : dt_s;
     scale_spread_ = scaleSpread();
     if (scale_spread_) {
       // Correlation over the distance travelled: a = exp(-|q_uv| / L).
@@ -47,14 +58,7 @@ void ParticleMotion::setControl(const Odometry& odometry, double dt_s,
       bias_ar_ = 1.0;
       bias_innovation_sigma_rad_s_ = 0.0;
     }
-    estimation::MotionNoise noise;
-    noise.distance_fraction = config_.odo_distance_sigma_rel;
-    noise.min_sigma_m = config_.odo_distance_sigma_m;
-    noise.heading_rad_per_m = 0.0;
-    noise.heading_rad_per_sqrt_s = 0.0;
-    noise.min_sigma_rad = config_.odo_heading_sigma_rad;
-    noise.use_reported_covariance = config_.use_reported_covariance;
-    Eigen::Matrix3d covariance = estimation::incrementCovariance(odometry, dt_s, noise);
+    Eigen::Matrix3d covariance = noiseCovariance(odometry, dt_s);
     const Eigen::Vector3d scale(translation_noise_scale_, translation_noise_scale_, 1.0);
     covariance = scale.asDiagonal() * covariance * scale.asDiagonal();
     covariance_ = covariance;

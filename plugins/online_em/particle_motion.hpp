@@ -5,7 +5,7 @@
 // "odometry" (roam's shared SE(2) model, roam::estimation::composeIncrement): the calibrated
 //   increment q = calibratedIncrement(u, dt, (s, b)) = (s u, s v, w - b dt) of the reported
 //   (forward u, lateral v, turn w; q_w = 0 on a step the vehicle stood still through, the shared
-//   standing rule: standing_max_speed_mps) plus noise e ~ N(0, Q), Q = incrementCovariance (the
+//   standstill rule: stationary_speed_mps) plus noise e ~ N(0, Q), Q = incrementCovariance (the
 //   configured rates, or the reported covariance floored by them):
 //     x_t = x (+) (q + e),   i.e. p_t = p + R(th) (q_uv + e_uv),  th_t = th + q_w + e_w.
 //   The inverse is exact: e = (R(th)^T (p_t - p), th_t - th) - q, so
@@ -59,7 +59,11 @@ class ParticleMotion {
   explicit ParticleMotion(const OnlineEmConfig& config) : config_(config) {}
 
   // Sets the control of the step (odometry over dt_s seconds) and the odometry calibration.
-  void setControl(const Odometry& odometry, double dt_s, const estimation::OdometryCalibration& calibration);
+  // standing_still: the vehicle stood still through the step (it turns by 0).
+  void setControl(const Odometry& odometry, double dt_s, const estimation::OdometryCalibration& calibration,
+                  bool standing_still = false);
+  // The odometry model's increment noise for a step (before the translation noise scale).
+  Eigen::Matrix3d noiseCovariance(const Odometry& odometry, double dt_s) const;
   // Multiplies the translation (forward, lateral) standard deviations of the odometry model by
   // `scale` from the next setControl on (the adaptive motion noise; 1 = as configured).
   void setTranslationNoiseScale(double scale) { translation_noise_scale_ = scale; }

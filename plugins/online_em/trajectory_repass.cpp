@@ -19,6 +19,8 @@ Path OnlineEmSlam::repassPath(std::vector<estimation::PoseTransition>* transitio
   if (all_inputs_.empty()) return {};
   const int n = config_.num_particles;
   ParticleMotion motion(config_);
+  estimation::Standstill standstill = standstill_;  // the forward pass's rule, from the first step
+  standstill.reset();
   motion.setTranslationNoiseScale(motion_noise_scale_);
   motion.enableScaleSpread(false);
   std::mt19937_64 rng(static_cast<uint64_t>(config_.seed) + 0x9e3779b97f4a7c15ULL);
@@ -52,7 +54,7 @@ Path OnlineEmSlam::repassPath(std::vector<estimation::PoseTransition>* transitio
                                                      cumulative.begin()));
     }
     previous = particles;
-    motion.setControl(odometry, dt_s, calibration_);
+    motion.setControl(odometry, dt_s, calibration_, standingStill(&standstill, odometry, dt_s));
     transitions->push_back({motion.increment(), motion.incrementCovariance()});
     for (int l = 0; l < n; ++l) motion.sample(previous, ancestor[l], &particles, l, rng);
     Eigen::ArrayXd log_weight = Eigen::ArrayXd::Zero(n);

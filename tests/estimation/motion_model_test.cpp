@@ -53,28 +53,17 @@ TEST(MotionModel, CalibrationScalesTheDistanceAndRemovesTheGyroBias) {
 }
 
 TEST(MotionModel, StandingStillTurnsByNothingWhateverTheGyroReports) {
-  // Rule: slower than 0.01 m/s and turning slower than 0.05 rad/s. Over 0.2 s: 1 mm and
-  // 0.002 rad (a 0.01 rad/s gyro bias) stand still; 3 mm (0.015 m/s) or 0.012 rad (0.06 rad/s,
-  // a turn on the spot) do not; dt = 0 never does; the rule off (0) never does.
-  OdometryCalibration calibration;
-  calibration.distance_scale = 1.1;
-  calibration.heading_rate_bias_rad_s = 0.004;
-  calibration.standing_max_speed_mps = 0.01;
-  calibration.standing_max_turn_rate_rad_s = 0.05;
-  const Eigen::Vector3d standing = calibratedIncrement(makeStep(0.001, 0.0, 0.002), 0.2, calibration);
-  EXPECT_TRUE(standingStill(makeStep(0.001, 0.0, 0.002), 0.2, calibration));
+  // s = 1.1, b = 0.004 rad/s over 0.2 s: moving, (0.001, 0, 0.002) -> (0.0011, 0, 0.0012);
+  // standing still the turn is 0 and the bias moves nothing (its Jacobian column is zero).
+  OdometryCalibration calibration{1.1, 0.004};
+  const Eigen::Vector3d moving = calibratedIncrement(makeStep(0.001, 0.0, 0.002), 0.2, calibration);
+  const Eigen::Vector3d standing = calibratedIncrement(makeStep(0.001, 0.0, 0.002), 0.2, calibration, true);
+  EXPECT_NEAR(moving[2], 0.0012, kTolerance);
   EXPECT_NEAR(standing[0], 0.0011, kTolerance);
   EXPECT_EQ(standing[2], 0.0);
-  EXPECT_FALSE(standingStill(makeStep(0.003, 0.0, 0.002), 0.2, calibration));
-  EXPECT_NEAR(calibratedIncrement(makeStep(0.003, 0.0, 0.002), 0.2, calibration)[2], 0.002 - 0.0008, kTolerance);
-  EXPECT_FALSE(standingStill(makeStep(0.0, 0.0, -0.012), 0.2, calibration));
-  EXPECT_NEAR(calibratedIncrement(makeStep(0.0, 0.0, -0.012), 0.2, calibration)[2], -0.012 - 0.0008, kTolerance);
-  EXPECT_FALSE(standingStill(makeStep(0.0, 0.0, 0.0), 0.0, calibration));
-  // Standing still the bias moves nothing: its Jacobian column is zero.
-  EXPECT_EQ(stepJacobians(Eigen::Vector3d(1, 2, 0.3), makeStep(0.001, 0.0, 0.002), 0.2, calibration).wrt_calibration(2, 1), 0.0);
-  calibration.standing_max_speed_mps = 0.0;
-  EXPECT_FALSE(standingStill(makeStep(0.0, 0.0, 0.002), 0.2, calibration));
-  EXPECT_NEAR(calibratedIncrement(makeStep(0.0, 0.0, 0.002), 0.2, calibration)[2], 0.002 - 0.0008, kTolerance);
+  const Eigen::Vector3d pose(1, 2, 0.3);
+  EXPECT_EQ(stepJacobians(pose, makeStep(0.001, 0.0, 0.002), 0.2, calibration, true).wrt_calibration(2, 1), 0.0);
+  EXPECT_EQ(stepJacobians(pose, makeStep(0.001, 0.0, 0.002), 0.2, calibration).wrt_calibration(2, 1), -0.2);
 }
 
 TEST(MotionModel, JacobiansMatchCentralDifferences) {

@@ -1,7 +1,7 @@
 // A standing start with a drifting gyro (roam-sim --hold-s): the vehicle stands still 45 s
 // (Plaza 1 does) while the heading odometry turns by the bias, b x 45 s, then drives.
-//  - surveyed beacons: without the standing rule (standing_max_speed_mps; the shared motion
-//    model's: standing still turns by 0) the cloud starts to move b x 45 s off in heading with only
+//  - surveyed beacons: without the standing rule (stationary_speed_mps; the shared standstill
+//    rule: standing still turns by 0) the cloud starts to move b x 45 s off in heading with only
 //    the per-step noise's spread, and the filter loses the path until the bias is learned; the
 //    per-particle bias spread (heading_rate_bias_particle_sigma_rad_s, off) also mends it;
 //  - start pose: the frame correction's gate counts the window's heading noise under the wheel
@@ -39,12 +39,12 @@ struct Result {
 };
 
 Result run(const Dataset& data, const std::string& anchor, const std::string& bias_spread,
-           const std::string& standing_max_speed_mps = "0.01") {
+           const std::string& stationary_speed_mps = "0.01") {
   OnlineEmConfig config;
   setOptions(&config, addOnlineEmOptions,
              {{"anchor", anchor},
               {"heading_rate_bias_particle_sigma_rad_s", bias_spread},
-              {"standing_max_speed_mps", standing_max_speed_mps}});
+              {"stationary_speed_mps", stationary_speed_mps}});
   OnlineEmSlam slam(config);
   feed(data, slam);
   return {meanError(slam.filteredPath(), data.ground_truth), slam.odometryCalibration().heading_rate_bias_rad_s};

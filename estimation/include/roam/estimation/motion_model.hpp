@@ -7,7 +7,7 @@
 //   b  heading-rate bias (rad/s; a gyro bias: the reported turn holds b * dt the robot did not turn),
 // the calibrated increment over a step of dt seconds is
 //   (u_c, v_c, w_c) = (s u, s v, w - b dt)
-// (w_c = 0 on a step the vehicle stood still through, where the calibration's standing rule is on)
+// (w_c = 0 on a step the vehicle stood still through: it did not turn, whatever the gyro said)
 // and the pose world_T_robot = (x, y, theta) moves as
 //   x' = x + cos(theta) u_c - sin(theta) v_c
 //   y' = y + sin(theta) u_c + cos(theta) v_c
@@ -27,20 +27,12 @@ namespace estimation {
 struct OdometryCalibration {
   double distance_scale = 1.0;
   double heading_rate_bias_rad_s = 0.0;
-  // A vehicle standing still does not turn (inertial navigation's zero-angular-rate update): a
-  // step slower than standing_max_speed_mps whose reported turn rate is under
-  // standing_max_turn_rate_rad_s turns by w_c = 0, whatever it reported (the gyro's bias and
-  // noise). 0 = off (every step turns by w - b dt).
-  double standing_max_speed_mps = 0.0;
-  double standing_max_turn_rate_rad_s = 0.0;
 };
 
-// Whether the step (dt_s > 0 seconds) is one the vehicle stood still through, by the rule above.
-bool standingStill(const Odometry& odometry, double dt_s, const OdometryCalibration& calibration);
-
-// (u_c, v_c, w_c) of the header, for a step that lasted dt_s seconds (w_c = 0 standing still).
+// (u_c, v_c, w_c) of the header, for a step that lasted dt_s seconds; standing_still (a
+// confirmed standstill, roam/estimation/standstill.hpp): w_c = 0, the vehicle did not turn.
 Eigen::Vector3d calibratedIncrement(const Odometry& odometry, double dt_s,
-                                    const OdometryCalibration& calibration = {});
+                                    const OdometryCalibration& calibration = {}, bool standing_still = false);
 
 // The pose (x, y, theta) after the calibrated increment; theta is not wrapped.
 template <typename T>
@@ -66,7 +58,7 @@ struct StepJacobians {
   Eigen::Matrix<double, 3, 2> wrt_calibration;  // d next / d (s, b)
 };
 StepJacobians stepJacobians(const Eigen::Vector3d& pose, const Odometry& odometry, double dt_s,
-                            const OdometryCalibration& calibration = {});
+                            const OdometryCalibration& calibration = {}, bool standing_still = false);
 
 // The heading noise of one odometry step under the wheel-odometry model the estimators share
 // (their keys odo_heading_sigma_rel, odo_heading_sigma_per_sqrt_m, odo_heading_sigma_rad): a

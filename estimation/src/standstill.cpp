@@ -1,0 +1,30 @@
+#include "roam/estimation/standstill.hpp"
+
+#include <cmath>
+
+namespace roam {
+namespace estimation {
+
+bool Standstill::confirm(const Odometry& odometry, double dt_s, double turn_variance_rad2) {
+  const bool slow = rule_.max_speed_mps > 0.0 && dt_s > 0.0 &&
+                    std::hypot(odometry.forward_m, odometry.lateral_m) <= rule_.max_speed_mps * dt_s;
+  if (!slow) {
+    reset();
+    return false;
+  }
+  const double rate = odometry.delta_heading_rad / dt_s, rate_var = turn_variance_rad2 / (dt_s * dt_s);
+  const bool agree = previous_slow_ && std::pow(rate - previous_rate_rad_s_, 2) <= rule_.gate_chi2 * (rate_var + previous_rate_var_);
+  agreeing_steps_ = agree ? agreeing_steps_ + 1 : 0;
+  previous_slow_ = true;
+  previous_rate_rad_s_ = rate;
+  previous_rate_var_ = rate_var;
+  return agreeing_steps_ + 1 >= rule_.min_steps;
+}
+
+void Standstill::reset() {
+  previous_slow_ = false;
+  agreeing_steps_ = 0;
+}
+
+}  // namespace estimation
+}  // namespace roam
