@@ -5,14 +5,12 @@
 namespace roam {
 namespace estimation {
 
-bool Standstill::confirm(const Odometry& odometry, double dt_s, double turn_variance_rad2) {
-  const bool slow = rule_.max_speed_mps > 0.0 && dt_s > 0.0 &&
-                    std::hypot(odometry.forward_m, odometry.lateral_m) <= rule_.max_speed_mps * dt_s;
-  if (!slow) {
-    reset();
-    return false;
-  }
-  const double rate = odometry.delta_heading_rad / dt_s, rate_var = turn_variance_rad2 / (dt_s * dt_s);
+bool Standstill::slow(const Odometry& odometry, double dt_s) const {
+  return rule_.max_speed_mps > 0.0 && dt_s > 0.0 &&
+         std::hypot(odometry.forward_m, odometry.lateral_m) <= rule_.max_speed_mps * dt_s;
+}
+
+bool Standstill::confirmSlow(double rate, double rate_var) {
   const bool agree = previous_slow_ && std::pow(rate - previous_rate_rad_s_, 2) <= rule_.gate_chi2 * (rate_var + previous_rate_var_);
   agreeing_steps_ = agree ? agreeing_steps_ + 1 : 0;
   previous_slow_ = true;

@@ -310,7 +310,7 @@ estimation::MotionNoise EkfSlam::motionNoise(const Odometry& odo) const {
 bool EkfSlam::confirmStandstill(const Odometry& odo, double dt_s) {
   // The shared rule (estimation::Standstill; stationary_speed_mps, stationary_min_steps, the
   // range gate): slow steps in a row, each turning at the rate of the one before.
-  return standstill_.confirm(odo, dt_s, estimation::incrementCovariance(odo, dt_s, motionNoise(odo))(2, 2));
+  return standstill_.confirm(odo, dt_s, [&] { return estimation::incrementCovariance(odo, dt_s, motionNoise(odo))(2, 2); });
 }
 
 bool EkfSlam::stationaryBiasUpdate(const Odometry& odo, double dt_s, double var_turn_rad2) {

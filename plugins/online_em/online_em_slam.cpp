@@ -711,7 +711,7 @@ bool OnlineEmSlam::standingStill(estimation::Standstill* standstill, const Odome
   // A standstill by the shared rule (odometry only) whose reported turn rate is one no gyro
   // bias reaches: a turn on the spot is a turn.
   if (config_.motion_model != OnlineEmConfig::MotionModel::kOdometry) return false;
-  if (!standstill->confirm(odometry, dt_s, motion_.noiseCovariance(odometry, dt_s)(2, 2))) return false;
+  if (!standstill->confirm(odometry, dt_s, [&] { return motion_.noiseCovariance(odometry, dt_s)(2, 2); })) return false;
   return std::abs(odometry.delta_heading_rad) < config_.stationary_max_turn_rate_rad_s * dt_s;
 }
 

@@ -287,7 +287,7 @@ class OnlineEmSlam : public Estimator {
   int64_t rate_first_utime_ = 0, rate_last_utime_ = 0;
   void checkBiasObservable(int64_t range_utime);
   // Whether the step is one the vehicle stood still through (stationary_speed_mps): the
-  // detector's confirmed standstill, at a rate the bias prior allows about the current b.
+  // detector's standstill, turning slower than stationary_max_turn_rate_rad_s.
   bool standingStill(estimation::Standstill* standstill, const Odometry& odometry, double dt_s) const;
   // Adaptive motion noise (adapt_motion_noise): running averages of pi (e^2 - sr^2 - v_map)
   // and pi v / kappa^2 over the ranges, and the scale kappa.

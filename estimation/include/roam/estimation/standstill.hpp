@@ -26,13 +26,26 @@ struct StandstillRule {
 class Standstill {
  public:
   explicit Standstill(const StandstillRule& rule = {}) : rule_(rule) {}
-  // The next step, dt_s seconds long, whose reported turn has variance turn_variance_rad2:
-  // whether it is a confirmed standstill (the rule above).
-  bool confirm(const Odometry& odometry, double dt_s, double turn_variance_rad2);
+  // The next step, dt_s seconds long, whose reported turn has variance turn_variance_rad2():
+  // whether it is a confirmed standstill (the rule above). The variance is asked for only on a
+  // slow step, so a moving step costs one comparison.
+  template <typename TurnVariance>
+  bool confirm(const Odometry& odometry, double dt_s, TurnVariance turn_variance_rad2) {
+    if (!slow(odometry, dt_s)) {
+      reset();
+      return false;
+    }
+    return confirmSlow(odometry.delta_heading_rad / dt_s, turn_variance_rad2() / (dt_s * dt_s));
+  }
+  bool confirm(const Odometry& odometry, double dt_s, double turn_variance_rad2) {
+    return confirm(odometry, dt_s, [turn_variance_rad2] { return turn_variance_rad2; });
+  }
   // Forgets the steps so far (a re-run from the start).
   void reset();
 
  private:
+  bool slow(const Odometry& odometry, double dt_s) const;
+  bool confirmSlow(double rate_rad_s, double rate_var);
   StandstillRule rule_;
   bool previous_slow_ = false;     // the previous step was below max_speed_mps
   int agreeing_steps_ = 0;         // slow steps in a row whose rate agreed with the one before
