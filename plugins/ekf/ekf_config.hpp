@@ -32,11 +32,12 @@ struct EkfConfig {
   double odo_scale_sigma = 0.05;
   double gyro_bias_sigma_rad_s = 0.01;
   double gyro_bias_walk_rad_s_per_sqrt_s = 1e-5;
-  // Observability of the heading-rate bias from the ranges: the heading is re-fixed about every
-  // three ranges (a 2-D position and one more); if the bias prior turns the heading by more than
-  // this over that time (gyro_bias_sigma_rad_s x 3 x the mean interval of the first 20 ranges),
-  // the EKF's heading leaves its linear regime before the ranges can observe the bias, and the
-  // bias is fixed at 0 instead (sparse, AUV-like data). 0: always estimate it.
+  // Observability of the heading-rate bias from the ranges (estimation::BiasObservability): the
+  // heading is re-fixed about every three position fixes; if the bias prior turns the heading by
+  // more than this over that time (gyro_bias_sigma_rad_s x 3 x the mean interval between the fix
+  // times of the first 20 ranges), the EKF's heading leaves its linear regime before the ranges
+  // can observe the bias, and the bias is fixed at 0 instead (sparse, AUV-like data), with a note
+  // at the end of the run. 0: always estimate it.
   double gyro_bias_max_drift_rad = 0.05;
   // Zero-rate update below this speed (the robot stands still: its reported turn is the bias).
   double stationary_speed_mps = 0.02;

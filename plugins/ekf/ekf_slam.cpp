@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "roam/estimation/bias_observability.hpp"
 #include "roam/estimation/motion_model.hpp"
 #include "ekf_joint_bias.hpp"
 #include "roam/estimation/multilateration.hpp"
@@ -44,6 +45,7 @@ EkfSlam::EkfSlam(const EkfConfig& config) : config_(config) {
   gate_range_chi2_ = chiSquareQuantile(1, config_.gate_probability);
   gate_range_bearing_chi2_ = chiSquareQuantile(2, config_.gate_probability);
   standstill_ = estimation::Standstill({config_.stationary_speed_mps, config_.stationary_min_steps, gate_range_chi2_});
+  bias_rate_ = estimation::BiasObservability(config_.gyro_bias_sigma_rad_s, config_.gyro_bias_max_drift_rad);
 }
 
 void EkfSlam::start(const Pose& pose) {
@@ -155,28 +157,25 @@ bool EkfSlam::biasEstimated(int64_t step_index) const {
 }
 
 void EkfSlam::checkBiasObservable(int64_t range_utime) {
-  // The heading is re-fixed about every three ranges; over that time the bias prior turns it by
-  // gyro_bias_sigma_rad_s x 3 x (mean range interval). Above gyro_bias_max_drift_rad (AUV-like:
-  // a range every 3 s, 0.01 rad/s x 10 s = 0.1 rad) the linearised heading is off before the
-  // ranges can see the bias, and what the EKF learns for it is outliers and linearisation error
-  // (it drove the AUV runs to 100+ m): the bias is fixed at 0 (distance scale still estimated).
-  // Until the decision (the first 20 ranges) b is held at 0; if observable it is released with
-  // its prior at the next step (recorded, so re-runs from before it release it there too). A
-  // confirmed standstill before that releases it at once (addOdometry).
-  constexpr int kRateRanges = 20;
-  if (!bias_undecided_ || rate_ranges_ >= kRateRanges) return;
-  if (rate_ranges_ == 0) rate_first_utime_ = rate_last_utime_ = range_utime;
-  rate_first_utime_ = std::min(rate_first_utime_, range_utime);
-  rate_last_utime_ = std::max(rate_last_utime_, range_utime);
-  if (++rate_ranges_ < kRateRanges) return;
+  // The shared rule (roam/estimation/bias_observability.hpp) on the first 20 ranges: above
+  // gyro_bias_max_drift_rad (AUV-like: a range every 3 s, 0.01 rad/s x 10 s = 0.1 rad) the
+  // linearised heading is off before the ranges can see the bias, and what the EKF learns for
+  // it is outliers and linearisation error (it drove the AUV runs to 100+ m): the bias is fixed
+  // at 0 (distance scale still estimated). Until the decision b is held at 0; if observable it
+  // is released with its prior at the next step (recorded, so re-runs from before it release it
+  // there too). A confirmed standstill before that releases it at once (addOdometry).
+  if (!bias_undecided_) return;
+  using Decision = estimation::BiasObservability::Decision;
+  const Decision decision = bias_rate_.addRange(range_utime);
+  if (decision == Decision::kUndecided) return;
   bias_undecided_ = false;
-  const double interval_s = (rate_last_utime_ - rate_first_utime_) * 1e-6 / (kRateRanges - 1);
-  if (config_.gyro_bias_sigma_rad_s * 3.0 * interval_s <= config_.gyro_bias_max_drift_rad) {
+  if (decision == Decision::kEstimate) {
     bias_release_step_ = next_step_;  // released with its prior at the start of that step
     return;
   }
   bias_fixed_ = true;
   calib_rerun_pending_ = false;  // nothing left to re-centre the run on
+  note(bias_rate_.heldNote("gyro_bias_max_drift_rad"));
 }
 
 void EkfSlam::runStep(const Step& step, bool live) {

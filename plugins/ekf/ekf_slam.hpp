@@ -48,6 +48,7 @@
 #include "ekf_config.hpp"
 #include "ekf_filter.hpp"
 #include "ekf_joint_bias.hpp"
+#include "roam/estimation/bias_observability.hpp"
 #include "roam/estimation/motion_model.hpp"
 #include "roam/estimation/multilateration.hpp"
 #include "roam/estimation/standstill.hpp"
@@ -193,8 +194,7 @@ class EkfSlam : public Estimator {
   double range_noise_scale_ = 1.0;  // multiplies the range variance (adaptRangeNoise)
   double nis_average_ = 1.0;        // running average of applied ranges' NIS  // multiplies the odometry covariance (starvation raises it)
   // Bias observability (checkBiasObservable): the first ranges' times, and the decision.
-  int rate_ranges_ = 0;
-  int64_t rate_first_utime_ = 0, rate_last_utime_ = 0;
+  estimation::BiasObservability bias_rate_{0.0, 0.0};
   // Until decided, b is held at 0; estimated from step bias_release_step_ on (re-runs too).
   bool bias_fixed_ = false;
   bool bias_undecided_ = false;

@@ -100,14 +100,15 @@ struct OnlineEmConfig {
            anchor == Anchor::kBeacons;
   }
   // Observability of the heading-rate bias (the EKF's gyro_bias_max_drift_rad, same rule and
-  // value): the ranges re-fix the heading about every three ranges; over that time the bias
-  // prior turns it by prior_sigma x 3 x (mean range interval of the first 20 ranges). Above
-  // this, the bias is fixed at 0 (the distance scale is still estimated): the particles cannot
-  // tell it from the heading noise, and what the M-step learned for it (1e-4-1e-3 rad/s on
-  // AUV-like runs with none) rotated the path by tens of metres. 0.05 rad: UWB rates (Plaza 1,
-  // 2 Hz synthetic: <= 0.016 rad) estimate it, AUV rates (a range every 2.6-3.3 s: >= 0.077 rad)
-  // do not. Until the 20th range b is held at 0 (its statistics accumulate all along).
-  // 0: always estimate.
+  // value: estimation::BiasObservability): the ranges re-fix the heading about every three
+  // position fixes; over that time the bias prior turns it by prior_sigma x 3 x (mean interval
+  // between the fix times of the first 20 ranges). Above this, the bias is fixed at 0 (the
+  // distance scale is still estimated) and the run ends with a note: the particles cannot tell
+  // it from the heading noise, and what the M-step learned for it (1e-4-1e-3 rad/s on AUV-like
+  // runs with none) rotated the path by tens of metres. 0.05 rad: UWB rates (Plaza 1, 2 Hz
+  // synthetic: <= 0.016 rad) estimate it, AUV rates (synthetic 3.3 s: 0.099 rad; GOATS 16 per
+  // fix: 0.185) do not. Until the 20th range b is held at 0 (its statistics accumulate all
+  // along). 0: always estimate.
   double heading_rate_bias_max_drift_rad = 0.05;
   // A vehicle standing still does not turn. A standstill by the shared rule
   // (roam/estimation/standstill.hpp: stationary_min_steps steps in a row slower than

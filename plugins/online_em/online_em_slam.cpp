@@ -10,6 +10,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 
+#include "roam/estimation/bias_observability.hpp"
 #include "roam/estimation/multilateration.hpp"
 #include "roam/options.hpp"
 
@@ -55,7 +56,7 @@ OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
                config_.motion_model == OnlineEmConfig::MotionModel::kOdometry;
   mixture_weight0_ = config_.mixture_weight0;
   inlier_sigma0_ = config_.mixture_sigma0;
-  if (config_.heading_rate_bias_max_drift_rad <= 0.0) bias_state_ = BiasState::kEstimated;
+  bias_rate_ = estimation::BiasObservability(config_.heading_rate_bias_prior_sigma_rad_s, config_.heading_rate_bias_max_drift_rad);
   standstill_ = estimation::Standstill({config_.stationary_speed_mps, config_.stationary_min_steps, kStandstillGateChi2});
   setDiagnostic("num_particles", n);
 }
@@ -192,7 +193,7 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
   // before its 20th range the same rule on the ranges so far (the first seconds decide where
   // the range scale settles: held off until the 20th range, 30 % NLOS + 0.97 scale, beacons,
   // 0.37 -> 0.49 m; on regardless until then, an AUV-like run, seed 406, went 4.9 -> 27.2 m).
-  const bool ranges_select = bias_state_ == BiasState::kEstimated || (bias_state_ == BiasState::kUndecided && ranges_dense_so_far_);
+  const bool ranges_select = biasEstimated() || (biasUndecided() && bias_rate_.denseSoFar());
   motion_.enableScaleSpread(ranges_select);
   // The bias spread by the same rule (b is fixed at 0 where it does not hold). Not while
   // replaying the calibrated re-run: b is fixed at its learned value there.
@@ -532,8 +533,7 @@ void OnlineEmSlam::tryInitialise(int i) {
     window_open_ = false;
     // The window solve where the ranges re-fix the path often enough (the bias rule).
     window_solve_pending_ = config_.init_window_solve && config_.anchor == OnlineEmConfig::Anchor::kStartPose &&
-                            (bias_state_ == BiasState::kEstimated ||
-                             (bias_state_ == BiasState::kUndecided && ranges_dense_so_far_));
+                            (biasEstimated() || (biasUndecided() && bias_rate_.denseSoFar()));
   }
   mStep();
 }
@@ -716,21 +716,15 @@ bool OnlineEmSlam::standingStill(estimation::Standstill* standstill, const Odome
 }
 
 void OnlineEmSlam::checkBiasObservable(int64_t range_utime) {
-  // Decided on the first kRateRanges ranges (the EKF's rule, heading_rate_bias_max_drift_rad).
-  constexpr int kRateRanges = 20;
-  if (bias_state_ != BiasState::kUndecided) return;
-  if (rate_ranges_ == 0) rate_first_utime_ = rate_last_utime_ = range_utime;
-  rate_first_utime_ = std::min(rate_first_utime_, range_utime);
-  rate_last_utime_ = std::max(rate_last_utime_, range_utime);
-  ++rate_ranges_;
-  const double interval_s = 1e-6 * static_cast<double>(rate_last_utime_ - rate_first_utime_) / std::max(1, rate_ranges_ - 1);
-  const double drift_rad = config_.heading_rate_bias_prior_sigma_rad_s * 3.0 * interval_s;
-  // The same rule on the ranges so far (at least 3 over a non-zero span): the scale spread's
-  // provisional decision until the 20th range.
-  ranges_dense_so_far_ = rate_ranges_ >= 3 && rate_last_utime_ > rate_first_utime_ && drift_rad <= config_.heading_rate_bias_max_drift_rad;
-  if (rate_ranges_ < kRateRanges) return;
-  bias_state_ = drift_rad <= config_.heading_rate_bias_max_drift_rad ? BiasState::kEstimated : BiasState::kFixed;
-  setDiagnostic("heading_rate_bias_estimated", bias_state_ == BiasState::kEstimated ? 1.0 : 0.0);
+  // The EKF's rule (roam/estimation/bias_observability.hpp, heading_rate_bias_max_drift_rad),
+  // decided on the first 20 ranges; until then the rule on the ranges so far is the scale
+  // spread's provisional decision (denseSoFar).
+  if (!biasUndecided()) return;
+  using Decision = estimation::BiasObservability::Decision;
+  const Decision decision = bias_rate_.addRange(range_utime);
+  if (decision == Decision::kUndecided) return;
+  setDiagnostic("heading_rate_bias_estimated", decision == Decision::kEstimate ? 1.0 : 0.0);
+  if (decision == Decision::kHold) note(bias_rate_.heldNote("heading_rate_bias_max_drift_rad"));
 }
 
 void OnlineEmSlam::calibrationMStep() {
@@ -743,7 +737,7 @@ void OnlineEmSlam::calibrationMStep() {
   h(1, 1) += pb;
   Eigen::Vector2d g = n * (calibration_statistics_.transpose() * weights_.matrix());
   g[0] += ps * 1.0;
-  if (bias_state_ != BiasState::kEstimated) {
+  if (!biasEstimated()) {
     // b held at 0: the distance scale alone.
     const double s = h(0, 0) > 0.0 ? g[0] / h(0, 0) : kNaN;
     if (!std::isfinite(s)) return;

@@ -130,6 +130,7 @@
 #include "particle_motion.hpp"
 #include "observation_model.hpp"
 #include "online_em_config.hpp"
+#include "roam/estimation/bias_observability.hpp"
 #include "roam/estimation/pose_smoother.hpp"
 #include "roam/estimation/standstill.hpp"
 #include "roam/estimation/window_solve.hpp"
@@ -280,11 +281,9 @@ class OnlineEmSlam : public Estimator {
   bool window_stands_calibrated_ = false;               // ... and with the standing rule (after a re-run)
   int64_t observing_steps_ = 0;
   // Heading-rate bias observability (heading_rate_bias_max_drift_rad): the first ranges' times.
-  enum class BiasState { kUndecided, kEstimated, kFixed };
-  BiasState bias_state_ = BiasState::kUndecided;
-  int rate_ranges_ = 0;
-  bool ranges_dense_so_far_ = false;
-  int64_t rate_first_utime_ = 0, rate_last_utime_ = 0;
+  estimation::BiasObservability bias_rate_{0.0, 0.0};
+  bool biasEstimated() const { return bias_rate_.decision() == estimation::BiasObservability::Decision::kEstimate; }
+  bool biasUndecided() const { return bias_rate_.decision() == estimation::BiasObservability::Decision::kUndecided; }
   void checkBiasObservable(int64_t range_utime);
   // Whether the step is one the vehicle stood still through (stationary_speed_mps): the
   // detector's standstill, turning slower than stationary_max_turn_rate_rad_s.

@@ -25,6 +25,7 @@
 #include "log_sink.hpp"
 #include "plugin_library.hpp"
 #include "rejection_warning.hpp"
+#include "run_notes.hpp"
 #include "replay.hpp"
 #include "threaded_instance.hpp"
 
@@ -201,7 +202,10 @@ int main(int argc, char** argv) {
   for (const auto& line : host->summary()) std::fprintf(stderr, "%s\n", line.c_str());
   for (size_t i = 0; i < host->estimators().size() && i < effective.size(); ++i) {
     const auto& slot = host->estimators()[i];
-    for (const auto& line : rejectionWarnings(slot.section.name, slot.instance->status(), effective[i]))
+    const auto status = slot.instance->status();
+    for (const auto& line : rejectionWarnings(slot.section.name, status, effective[i]))
+      std::fprintf(stderr, "roam-run: %s\n", line.c_str());
+    for (const auto& line : runNotes(slot.section.name, status, effective[i]))
       std::fprintf(stderr, "roam-run: %s\n", line.c_str());
   }
   std::vector<std::string> failures;

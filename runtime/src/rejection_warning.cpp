@@ -19,10 +19,7 @@ std::string warningFor(const std::string& estimator, const char* input, const ch
       top_reason = status.keys[i].substr(prefix.size());
     }
   }
-  std::string key;
-  for (const auto& [name, value] : config) {
-    if (name.size() > key.size() && top_reason.find(name) != std::string::npos) key = name;
-  }
+  const std::string key = configKeyNamedIn(top_reason, config);
   char head[256];
   std::snprintf(head, sizeof head, "warning: %s rejected %lld of %lld %s (%.0f %%)", estimator.c_str(),
                 static_cast<long long>(rejected), static_cast<long long>(total), input,
@@ -36,6 +33,14 @@ std::string warningFor(const std::string& estimator, const char* input, const ch
 }
 
 }  // namespace
+
+std::string configKeyNamedIn(const std::string& text, const KeyValues& config) {
+  std::string key;
+  for (const auto& [name, value] : config) {
+    if (name.size() > key.size() && text.find(name) != std::string::npos) key = name;
+  }
+  return key;
+}
 
 std::vector<std::string> rejectionWarnings(const std::string& estimator, const EstimatorInstance::Status& status,
                                            const KeyValues& effective_config) {

@@ -19,6 +19,9 @@ constexpr double kRejectionWarningFraction = 0.05;
 //   gate_probability' (439): look at key gate_probability
 // The reasons come from the status values "rejected <input>: <reason>" the SDK keeps; the key
 // is the longest of the estimator's effective config keys that the reason names ("" if none).
+// The longest of the config keys that the text names ("" if none).
+std::string configKeyNamedIn(const std::string& text, const KeyValues& config);
+
 std::vector<std::string> rejectionWarnings(const std::string& estimator, const EstimatorInstance::Status& status,
                                            const KeyValues& effective_config);
 

@@ -82,6 +82,7 @@ TEST(EkfCalibration, StandstillLearnsTheBiasAndDoesNotTurn) {
   EXPECT_NEAR(ekf.path().back().heading_rad, 0.3 + 4 * 0.2 * 0.01, 1e-6);
   EXPECT_EQ(ekf.diagnostics().at("heading_rate_bias_estimated"), 1.0);
   EXPECT_EQ(ekf.diagnostics().at("stationary_bias_updates"), 96.0);
+  EXPECT_EQ(ekf.diagnostics().lower_bound("note: "), ekf.diagnostics().lower_bound("note:~"));  // nothing to note
 }
 
 TEST(EkfCalibration, ASlowVehicleTurningIsNotStandingStill) {
@@ -232,6 +233,10 @@ TEST(EkfCalibration, AuvSparseOutliersBeaconsBeatDeadReckoningOnEverySeedAndRepe
     EXPECT_LT(error_m, 1.1 * dr_m) << "seed " << seed;
     EXPECT_EQ(ekf.diagnostics().at("heading_rate_bias_estimated"), 0.0);
     EXPECT_EQ(ekf.filter().headingRateBias(), 0.0);
+    // ... and the run says so (roam-run prints it with the key).
+    const auto note = ekf.diagnostics().lower_bound("note: held the heading-rate bias at 0");
+    ASSERT_NE(note, ekf.diagnostics().end());
+    EXPECT_NE(note->first.find("more than gyro_bias_max_drift_rad (0.050)"), std::string::npos) << note->first;
     if (seed == 203) {
       EkfSlam again(config);
       test::feed(run, again);

@@ -327,8 +327,12 @@ TEST(OnlineEmOutliers, AuvLikeRunsWithinDeadReckoningBound) {
       EXPECT_LT(mean_m, 1.25 * dr_m);
       // The odometry is 15 % noisy against the configured 2 %: the translation noise is inflated.
       EXPECT_GT(slam.diagnostics().at("motion_noise_scale"), 1.5);
-      // Ranges every 3.3 s: the bias is not observable and stays 0.
+      // Ranges every 3.3 s: the bias is not observable and stays 0, and the run says so.
       EXPECT_EQ(slam.odometryCalibration().heading_rate_bias_rad_s, 0.0);
+      EXPECT_EQ(slam.diagnostics().at("heading_rate_bias_estimated"), 0.0);
+      const auto note = slam.diagnostics().lower_bound("note: held the heading-rate bias at 0");
+      ASSERT_NE(note, slam.diagnostics().end());
+      EXPECT_NE(note->first.find("more than heading_rate_bias_max_drift_rad (0.050)"), std::string::npos) << note->first;
     }
   }
   // The old defaults on seed 108 from the start pose break the bound (the test can fail).

@@ -106,6 +106,35 @@ TEST(Run, TwoReplaysGiveIdenticalEstimates) {
   }
 }
 
+TEST(Run, AHeldCalibrationIsNotedWithItsKeyAtTheEnd) {
+  // Ranges every 2 s: the EKF and online EM hold the heading-rate bias at 0 (0.01 rad/s x 3 x
+  // 2 s = 0.06 rad > 0.05) and roam-run says so, naming each one's key; at the small world's
+  // 2 Hz neither says anything.
+  const fs::path dir = scratchDir("run_note");
+  sim::SimConfig world = testing_util::smallWorld();
+  world.range_rate_hz = 0.5;
+  const fs::path sparse = dir / "sparse.lcmlog";
+  writeDatasetLog(sparse.string(), sim::simulate(world));
+  const std::string estimators = "[estimator.ekf]\nplugin = ekf\n[estimator.em]\nplugin = online_em\nnum_particles = 20\n";
+  const fs::path config = writeConfig(dir, sparse, estimators);
+  const auto result = run(roamRun() + " " + config.string() + " --no-progress");
+  EXPECT_EQ(result.status, 0) << result.output;
+  EXPECT_NE(result.output.find("roam-run: note: ekf held the heading-rate bias at 0: its first 20 ranges fixed the "
+                               "position 2.00 s apart"),
+            std::string::npos)
+      << result.output;
+  EXPECT_NE(result.output.find("(0.050); for a drifting gyro with clean ranges set it to 0: look at key "
+                               "gyro_bias_max_drift_rad\n"),
+            std::string::npos)
+      << result.output;
+  EXPECT_NE(result.output.find("roam-run: note: em held the heading-rate bias at 0"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("look at key heading_rate_bias_max_drift_rad\n"), std::string::npos) << result.output;
+  const fs::path dense = writeConfig(dir, testing_util::writeSmallWorldLog(dir), estimators);
+  const auto quiet = run(roamRun() + " " + dense.string() + " --no-progress");
+  EXPECT_EQ(quiet.status, 0) << quiet.output;
+  EXPECT_EQ(quiet.output.find("note:"), std::string::npos) << quiet.output;
+}
+
 TEST(Run, AFailingPluginIsIsolatedAndNamedInTheExitStatus) {
   const fs::path dir = scratchDir("run_failing");
   const fs::path log = testing_util::writeSmallWorldLog(dir);

@@ -71,6 +71,11 @@ class Estimator {
   void acceptRange() { ++ranges_accepted_; }
   void setState(EstimatorState state) { state_ = state; }
   void setDiagnostic(const std::string& key, double value) { diagnostics_[key] = value; }
+  // A choice the estimator made about this run that the user should hear at its end (a
+  // calibration it held, a mode it fell back to), naming the config key that decides it:
+  // carried in STATUS as the diagnostic "note: <text>" (value 1); roam-run prints each note
+  // after the run with the key it names.
+  void note(const std::string& text) { diagnostics_["note: " + text] = 1.0; }
 
  private:
   EstimatorState state_ = EstimatorState::kInitializing;
