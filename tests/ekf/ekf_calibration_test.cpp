@@ -207,6 +207,33 @@ TEST(EkfCalibration, GyroDriftFigure8StartPoseFrameDoesNotDependOnTheBias) {
   EXPECT_EQ(ekf.diagnostics().at("calibration_reruns_reinitialised"), 0.0);
 }
 
+TEST(EkfCalibration, ASlowUwbRobotEstimatesItsGyroBiasFromTheStartPose) {
+  // A slow UWB robot (sim::slowUwbWorld, seed-sweep's slow-uwb): 1 s steps at 0.5 m/s, one range
+  // every 2 s round robin over six beacons, a gyro drifting at 0.005 rad/s.
+  // Ranges every 2 s: the bias prior turns the heading 0.01 x 3 x 2 = 0.06 rad between fixes,
+  // under gyro_bias_max_drift_rad (0.08), so b is estimated. Held at 0 (the old 0.05) the
+  // start-pose EKF lost the path (seed 310: 23.1 m; dead reckoning 21.7 m). Measured here:
+  // seed 310 0.29 m, b 0.00478 rad/s (seeds 301-310: median 0.29, worst 0.88).
+  const sim::SimRun run = sim::simulate(sim::slowUwbWorld(310, 2400));
+  EkfConfig config;
+  config.anchor = EkfConfig::Anchor::kStartPose;
+  EkfSlam ekf(config);
+  test::feed(run, ekf);
+  const double error_m = meanError(ekf.path(), run.ground_truth);
+  std::printf("slow UWB seed 310, start pose: mean error %.2f m (dead reckoning %.2f m), b %.5f rad/s\n", error_m,
+              deadReckoningError(run), ekf.filter().headingRateBias());
+  EXPECT_EQ(ekf.diagnostics().at("heading_rate_bias_estimated"), 1.0);
+  EXPECT_NEAR(ekf.filter().headingRateBias(), 0.005, 0.0005);
+  EXPECT_LT(error_m, 1.0);
+  EXPECT_EQ(ekf.diagnostics().lower_bound("note: "), ekf.diagnostics().lower_bound("note:~"));  // nothing held
+  // The old threshold holds it and loses the path: the test can fail.
+  config.gyro_bias_max_drift_rad = 0.05;
+  EkfSlam held(config);
+  test::feed(run, held);
+  EXPECT_GT(meanError(held.path(), run.ground_truth), 10.0);
+  EXPECT_NE(held.diagnostics().lower_bound("note: held the heading-rate bias at 0"), held.diagnostics().end());
+}
+
 TEST(EkfCalibration, AuvSparseOutliersBeaconsBeatDeadReckoningOnEverySeedAndRepeat) {
   // The development AUV-like run: 3 s steps of 4.5 m, ranges of hundreds of metres, 45 % outliers
   // (-150..+100 m), true sigma 2 m stated as 0.75 m, odometry 15 % noisy and 3 % short; 4
@@ -236,7 +263,7 @@ TEST(EkfCalibration, AuvSparseOutliersBeaconsBeatDeadReckoningOnEverySeedAndRepe
     // ... and the run says so (roam-run prints it with the key).
     const auto note = ekf.diagnostics().lower_bound("note: held the heading-rate bias at 0");
     ASSERT_NE(note, ekf.diagnostics().end());
-    EXPECT_NE(note->first.find("more than gyro_bias_max_drift_rad (0.050)"), std::string::npos) << note->first;
+    EXPECT_NE(note->first.find("more than gyro_bias_max_drift_rad (0.080)"), std::string::npos) << note->first;
     if (seed == 203) {
       EkfSlam again(config);
       test::feed(run, again);

@@ -237,6 +237,27 @@ TEST(OnlineEmCalibration, GyroBiasIsLearnedAndTheStartFrameCorrected) {
   EXPECT_DOUBLE_EQ(uncalibrated.odometryCalibration().heading_rate_bias_rad_s, 0.0);
 }
 
+// A slow UWB robot (sim::slowUwbWorld: 1 s steps at 0.5 m/s, one range every 2 s, 0.005 rad/s
+// of gyro bias): 0.01 x 3 x 2 s = 0.06 rad between fixes, under heading_rate_bias_max_drift_rad
+// (0.08), so b is estimated. Held at 0 (the old 0.05) online EM followed its dead reckoning in
+// both anchors (seed 310: 21.7 / 21.2 m, dead reckoning 21.7). Measured (seed 310): 1.83 / 2.02 m,
+// b 0.0047-0.0048 rad/s.
+TEST(OnlineEmCalibration, ASlowUwbRobotEstimatesItsGyroBias) {
+  const Dataset data = sim::simulate(sim::slowUwbWorld(310, 2400));
+  for (const std::string anchor : {"start_pose", "beacons"}) {
+    OnlineEmConfig config;
+    setOptions(&config, addOnlineEmOptions, {{"anchor", anchor}});
+    OnlineEmSlam slam(config);
+    feed(data, slam);
+    const double mean_m = meanError(slam.filteredPath(), data.ground_truth);
+    std::printf("slow UWB seed 310, %s: path mean %.2f m, b %.5f rad/s\n", anchor.c_str(), mean_m,
+                slam.odometryCalibration().heading_rate_bias_rad_s);
+    EXPECT_EQ(slam.diagnostics().at("heading_rate_bias_estimated"), 1.0);
+    EXPECT_NEAR(slam.odometryCalibration().heading_rate_bias_rad_s, 0.005, 0.0005);
+    EXPECT_LT(mean_m, 4.0);
+  }
+}
+
 // Calibrated re-run (start pose): once b is known, the filter restarts from the start with the
 // learned calibration, so the first landmarks are placed from a calibrated path and the frame
 // is right; without it only the approximate frame correction is left.
@@ -332,7 +353,7 @@ TEST(OnlineEmOutliers, AuvLikeRunsWithinDeadReckoningBound) {
       EXPECT_EQ(slam.diagnostics().at("heading_rate_bias_estimated"), 0.0);
       const auto note = slam.diagnostics().lower_bound("note: held the heading-rate bias at 0");
       ASSERT_NE(note, slam.diagnostics().end());
-      EXPECT_NE(note->first.find("more than heading_rate_bias_max_drift_rad (0.050)"), std::string::npos) << note->first;
+      EXPECT_NE(note->first.find("more than heading_rate_bias_max_drift_rad (0.080)"), std::string::npos) << note->first;
     }
   }
   // The old defaults on seed 108 from the start pose break the bound (the test can fail).

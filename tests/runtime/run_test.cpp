@@ -107,12 +107,13 @@ TEST(Run, TwoReplaysGiveIdenticalEstimates) {
 }
 
 TEST(Run, AHeldCalibrationIsNotedWithItsKeyAtTheEnd) {
-  // Ranges every 2 s: the EKF and online EM hold the heading-rate bias at 0 (0.01 rad/s x 3 x
-  // 2 s = 0.06 rad > 0.05) and roam-run says so, naming each one's key; at the small world's
+  // Ranges every 4 s: the EKF and online EM hold the heading-rate bias at 0 (0.01 rad/s x 3 x
+  // 4 s = 0.12 rad > 0.08) and roam-run says so, naming each one's key; at the small world's
   // 2 Hz neither says anything.
   const fs::path dir = scratchDir("run_note");
   sim::SimConfig world = testing_util::smallWorld();
-  world.range_rate_hz = 0.5;
+  world.range_rate_hz = 0.25;
+  world.num_steps = 1000;  // 200 s: 50 ranges
   const fs::path sparse = dir / "sparse.lcmlog";
   writeDatasetLog(sparse.string(), sim::simulate(world));
   const std::string estimators = "[estimator.ekf]\nplugin = ekf\n[estimator.em]\nplugin = online_em\nnum_particles = 20\n";
@@ -120,10 +121,10 @@ TEST(Run, AHeldCalibrationIsNotedWithItsKeyAtTheEnd) {
   const auto result = run(roamRun() + " " + config.string() + " --no-progress");
   EXPECT_EQ(result.status, 0) << result.output;
   EXPECT_NE(result.output.find("roam-run: note: ekf held the heading-rate bias at 0: its first 20 ranges fixed the "
-                               "position 2.00 s apart"),
+                               "position 4.00 s apart"),
             std::string::npos)
       << result.output;
-  EXPECT_NE(result.output.find("(0.050); for a drifting gyro with clean ranges set it to 0: look at key "
+  EXPECT_NE(result.output.find("(0.080); for a drifting gyro with clean ranges set it to 0: look at key "
                                "gyro_bias_max_drift_rad\n"),
             std::string::npos)
       << result.output;

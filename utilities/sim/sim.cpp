@@ -170,6 +170,16 @@ SimConfig gyroDriftFigure8World(uint64_t seed, int num_steps) {
   return c;
 }
 
+SimConfig slowUwbWorld(uint64_t seed, int num_steps) {
+  SimConfig c = gyroDriftFigure8World(seed, num_steps);
+  c.dt_s = 1.0;
+  c.speed_mps = 0.5;
+  c.range_rate_hz = 0.5;
+  c.odo_heading_sigma_rad = 0.0067;
+  c.odo_heading_bias_radps = 0.005;
+  return c;
+}
+
 SimConfig nlos30LawnMowerWorld(uint64_t seed, int num_steps) {
   SimConfig c;
   c.seed = seed;

@@ -122,6 +122,11 @@ SimConfig auvLikeWorld(uint64_t seed, int num_steps);
 // gyro bias.
 SimConfig gyroDriftFigure8World(uint64_t seed, int num_steps);
 
+// The same figure-8 driven by a slow UWB robot (utilities/seed-sweep's slow-uwb, 2400 steps):
+// 1 s steps at 0.5 m/s, one range every 2 s (0.5 Hz round robin), the same gyro noise per
+// sqrt(s) (0.0067 rad per step) and 0.005 rad/s of bias.
+SimConfig slowUwbWorld(uint64_t seed, int num_steps);
+
 // The heavy-NLOS world of logs/synthetic/nlos30-lawnmower (there seed 107, 3000 steps): a
 // 40 x 30 m lawn mower with 5 m lanes at 1 m/s in 0.2 s steps, 6 beacons at 2 Hz round robin,
 // 0.3 m range noise, 30 % of the ranges 2-40 m too long, 2 % odometry and 0.003 rad heading noise.
