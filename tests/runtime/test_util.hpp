@@ -9,12 +9,18 @@
 #include <fstream>
 #include <string>
 
+#include <gtest/gtest.h>
+
 namespace roam {
 namespace testing_util {
 
 // A fresh folder under the build tree's tests/ for one test.
+// Named for the test as well: ctest runs tests in parallel, one process each, and two tests that
+// share a helper (and so a name) must not remove each other's files.
 inline std::filesystem::path scratchDir(const std::string& name) {
-  const auto dir = std::filesystem::path(ROAM_BINARY_DIR) / "tests" / "scratch" / name;
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::string folder = test == nullptr ? name : name + "." + test->test_suite_name() + "." + test->name();
+  const auto dir = std::filesystem::path(ROAM_BINARY_DIR) / "tests" / "scratch" / folder;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
