@@ -193,7 +193,7 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
   // before its 20th range the same rule on the ranges so far (the first seconds decide where
   // the range scale settles: held off until the 20th range, 30 % NLOS + 0.97 scale, beacons,
   // 0.37 -> 0.49 m; on regardless until then, an AUV-like run, seed 406, went 4.9 -> 27.2 m).
-  const bool ranges_select = biasEstimated() || (biasUndecided() && bias_rate_.denseSoFar());
+  const bool ranges_select = bias_rate_.estimateSoFar();
   motion_.enableScaleSpread(ranges_select);
   // The bias spread by the same rule (b is fixed at 0 where it does not hold). Not while
   // replaying the calibrated re-run: b is fixed at its learned value there.
@@ -532,8 +532,8 @@ void OnlineEmSlam::tryInitialise(int i) {
   if (initialised >= 2 && initialised == static_cast<int>(landmarks_.size())) {
     window_open_ = false;
     // The window solve where the ranges re-fix the path often enough (the bias rule).
-    window_solve_pending_ = config_.init_window_solve && config_.anchor == OnlineEmConfig::Anchor::kStartPose &&
-                            (biasEstimated() || (biasUndecided() && bias_rate_.denseSoFar()));
+    window_solve_pending_ =
+        config_.init_window_solve && config_.anchor == OnlineEmConfig::Anchor::kStartPose && bias_rate_.estimateSoFar();
   }
   mStep();
 }

@@ -33,6 +33,7 @@ TEST(BiasObservability, DecidesAtTheTwentiethRangeAndKeepsIt) {
   BiasObservability rule(0.01, 0.05);
   EXPECT_EQ(decide(&rule, 0.5, 1, 19), Decision::kUndecided);
   EXPECT_TRUE(rule.denseSoFar());  // the provisional decision
+  EXPECT_TRUE(rule.estimateSoFar());
   EXPECT_EQ(rule.addRange(10000000), Decision::kEstimate);
   // Later ranges, however sparse, change nothing.
   EXPECT_EQ(rule.addRange(900000000), Decision::kEstimate);
@@ -49,6 +50,7 @@ TEST(BiasObservability, RangesAtOneTimeAreOneFix) {
   BiasObservability burst(0.01, 0.05);
   EXPECT_EQ(decide(&burst, 0.0, 1, 25), Decision::kUndecided);
   EXPECT_FALSE(burst.denseSoFar());
+  EXPECT_FALSE(burst.estimateSoFar());
   EXPECT_EQ(burst.addRange(1500000), Decision::kUndecided);
   EXPECT_EQ(burst.addRange(2000000), Decision::kEstimate);  // 3 fixes over 1 s: 0.5 s apart
 }

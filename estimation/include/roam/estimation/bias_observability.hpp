@@ -7,11 +7,12 @@
 // time: ranges to several beacons at one time (an AUV's acoustic cycle, a pyfg pose) fix the
 // position once, and the heading only changes what the next fix sees after the vehicle has
 // moved. Above max_drift_rad the estimators hold the bias at 0 (AUV rates: GOATS 16's first
-// ranges 5.3 s apart by fix, 0.16 rad; synthetic AUV runs 3.3 s, 0.099 rad): what they learned
+// ranges 6.17 s apart by fix, 0.185 rad; synthetic AUV runs 3.3 s, 0.099 rad): what they learned
 // for it there was outliers and odometry noise, and it rotated the path by tens of metres. At
-// UWB rates (Plaza 1, 2 Hz synthetic: <= 0.016 rad) they estimate it. max_drift_rad <= 0:
-// always estimate. A rule on the rate alone: a slow UWB robot (a range every 2 s: 0.06 rad) is
-// held as well (README, known gaps), and says so (heldNote).
+// UWB rates (Plaza 1, 2 Hz synthetic: <= 0.016 rad; a slow robot ranging every 2 s: 0.06 rad)
+// they estimate it (the estimators' threshold: 0.08 rad). max_drift_rad <= 0: always estimate.
+// A rule on the rate alone: a robot with clean ranges fixing its position less often is held as
+// well, and says so (heldNote).
 #pragma once
 
 #include <cstdint>
@@ -33,18 +34,22 @@ class BiasObservability {
   Decision decision() const { return decision_; }
   // The rule on the ranges so far (at least 3 fix times): a provisional decision.
   bool denseSoFar() const;
+  // Estimated, or undecided with the ranges so far dense: what the bias may be used for now.
+  bool estimateSoFar() const {
+    return decision_ == Decision::kEstimate || (decision_ == Decision::kUndecided && denseSoFar());
+  }
   double intervalS() const;
   double driftRad() const { return prior_sigma_rad_s_ * 3.0 * intervalS(); }
   // What a held bias tells the user, naming the threshold's key (and no other, so roam-run's
-  // end-of-run note points at it): "held the heading-rate bias at 0: its first 20 ranges came
-  // 2.00 s apart, ...".
+  // end-of-run note points at it): "held the heading-rate bias at 0: its first 20 ranges fixed
+  // the position 3.33 s apart, ...".
   std::string heldNote(const std::string& max_drift_key) const;
 
  private:
   double prior_sigma_rad_s_, max_drift_rad_;
   Decision decision_;
   int ranges_ = 0;
-  std::set<int64_t> fix_utimes_;  // of the ranges so far, until the decision
+  std::set<int64_t> fix_utimes_;  // of the ranges up to the decision (its interval, for heldNote)
 };
 
 }  // namespace estimation
