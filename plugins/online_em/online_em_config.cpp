@@ -21,6 +21,9 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
       .min(0.0, false);
   options.add("odo_heading_sigma_rad", &c->odo_heading_sigma_rad, "heading noise per step")
       .min(0.0, false);
+  options.add("odo_heading_step_s", &c->odo_heading_step_s,
+              "step duration odo_heading_sigma_rad is stated for; shorter steps get sigma * sqrt(dt / this) (0: per step)")
+      .min(0.0);
   options.add("use_reported_covariance", &c->use_reported_covariance,
               "use the odometry's own covariance, floored by the configured noise");
   options.add("calibrate_odometry", &c->calibrate_odometry,

@@ -39,6 +39,17 @@ struct OnlineEmConfig {
   double odo_distance_sigma_rel = 0.02;
   double odo_distance_sigma_m = 0.001;
   double odo_heading_sigma_rad = 0.005;
+  // The heading noise is a random walk over time for steps shorter than odo_heading_step_s: a
+  // step of dt < odo_heading_step_s gets sigma * sqrt(dt / odo_heading_step_s), so odometry at
+  // 20 Hz tells the M-step as much about the heading-rate bias per second as at 5 Hz (with sigma
+  // per step it told a quarter: the calibrated re-run came four times later, and the drifting
+  // figure-8 at 20 Hz from the start pose landed at 1.13 m, with the share 0.31 m). 0.15 s: a
+  // step of 5 Hz odometry with its clock's jitter is a whole step (Plaza 1's are 0.171-0.232 s),
+  // so 5 Hz runs are as before. A longer step keeps the per-step sigma: heading noise grown with
+  // an AUV's 3 s steps (0.019 rad) lost the synthetic AUV from the start pose (14.8 -> 37.5 m),
+  // and an AUV's heading comes from a compass, whose error does not grow with the step.
+  // 0 = per step whatever the rate.
+  double odo_heading_step_s = 0.15;
   // A covariance reported with the odometry is used, each variance floored by the above
   // (roam::estimation::incrementCovariance): a file that states centimetres for odometry good
   // to a metre cannot make the filter overconfident.

@@ -13,13 +13,20 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 }  // namespace
 
+double headingSigma_rad(const OnlineEmConfig& config, double dt_s) {
+  const double step_s = config.odo_heading_step_s;
+  // (utime differences in seconds round: 200000 us is 0.19999999999999998 s, a whole step)
+  if (!(step_s > 0.0) || !(dt_s > 0.0) || dt_s >= step_s * (1.0 - 1e-9)) return config.odo_heading_sigma_rad;
+  return config.odo_heading_sigma_rad * std::sqrt(dt_s / step_s);
+}
+
 Eigen::Matrix3d ParticleMotion::noiseCovariance(const Odometry& odometry, double dt_s) const {
   estimation::MotionNoise noise;
   noise.distance_fraction = config_.odo_distance_sigma_rel;
   noise.min_sigma_m = config_.odo_distance_sigma_m;
   noise.heading_rad_per_m = 0.0;
   noise.heading_rad_per_sqrt_s = 0.0;
-  noise.min_sigma_rad = config_.odo_heading_sigma_rad;
+  noise.min_sigma_rad = headingSigma_rad(config_, dt_s);
   noise.use_reported_covariance = config_.use_reported_covariance;
   return estimation::incrementCovariance(odometry, dt_s, noise);
 }

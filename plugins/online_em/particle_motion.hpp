@@ -54,6 +54,11 @@ struct ParticlePoses {
   int size() const { return static_cast<int>(x_m.size()); }
 };
 
+// The heading noise sigma of one step of dt_s seconds: odo_heading_sigma_rad, shared out as a
+// random walk over steps shorter than odo_heading_step_s (OnlineEmConfig). A step of unknown
+// length (dt_s <= 0) gets the per-step sigma.
+double headingSigma_rad(const OnlineEmConfig& config, double dt_s);
+
 class ParticleMotion {
  public:
   explicit ParticleMotion(const OnlineEmConfig& config) : config_(config) {}
