@@ -21,9 +21,15 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
       .min(0.0, false);
   options.add("odo_heading_sigma_rad", &c->odo_heading_sigma_rad, "heading noise per step")
       .min(0.0, false);
-  options.add("odo_heading_step_s", &c->odo_heading_step_s,
-              "step duration odo_heading_sigma_rad is stated for; shorter steps get sigma * sqrt(dt / this) (0: per step)")
+  options.add("odo_heading_step_min_s", &c->odo_heading_step_min_s,
+              "odo_heading_sigma_rad is for steps this long or longer; a shorter step gets sigma * sqrt(dt / this) (0: no share)")
       .min(0.0);
+  options.add("odo_heading_step_max_s", &c->odo_heading_step_max_s,
+              "odo_heading_sigma_rad is for steps this long or shorter; a longer step gets sigma * sqrt(dt / this) where the "
+              "ranges re-fix the heading (heading_rate_bias_max_drift_rad's rule) (0: no share)")
+      .min(0.0);
+  options.require([c] { return c->odo_heading_step_max_s == 0.0 || c->odo_heading_step_max_s >= c->odo_heading_step_min_s; },
+                  {"odo_heading_step_max_s", "odo_heading_step_min_s"}, "odo_heading_step_max_s >= odo_heading_step_min_s (or 0)");
   options.add("use_reported_covariance", &c->use_reported_covariance,
               "use the odometry's own covariance, floored by the configured noise");
   options.add("calibrate_odometry", &c->calibrate_odometry,

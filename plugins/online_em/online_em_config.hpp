@@ -39,17 +39,26 @@ struct OnlineEmConfig {
   double odo_distance_sigma_rel = 0.02;
   double odo_distance_sigma_m = 0.001;
   double odo_heading_sigma_rad = 0.005;
-  // The heading noise is a random walk over time for steps shorter than odo_heading_step_s: a
-  // step of dt < odo_heading_step_s gets sigma * sqrt(dt / odo_heading_step_s), so odometry at
-  // 20 Hz tells the M-step as much about the heading-rate bias per second as at 5 Hz (with sigma
-  // per step it told a quarter: the calibrated re-run came four times later, and the drifting
-  // figure-8 at 20 Hz from the start pose landed at 1.13 m, with the share 0.31 m). 0.15 s: a
-  // step of 5 Hz odometry with its clock's jitter is a whole step (Plaza 1's are 0.171-0.232 s),
-  // so 5 Hz runs are as before. A longer step keeps the per-step sigma: heading noise grown with
-  // an AUV's 3 s steps (0.019 rad) lost the synthetic AUV from the start pose (14.8 -> 37.5 m),
-  // and an AUV's heading comes from a compass, whose error does not grow with the step.
-  // 0 = per step whatever the rate.
-  double odo_heading_step_s = 0.15;
+  // odo_heading_sigma_rad is the heading noise of a step between odo_heading_step_min_s and
+  // odo_heading_step_max_s (5 Hz odometry with its clock's jitter: Plaza 1's steps are
+  // 0.171-0.232 s). The heading noise is a random walk over time (a gyro's, or wheels' over
+  // the distance a step covers at a given speed), so a step of dt outside that span gets
+  // sigma * sqrt(dt / the nearer bound), its share of the same noise per second:
+  // - shorter: 20 Hz odometry is not noisier per second than 5 Hz. With sigma per step it told
+  //   the M-step a quarter as much about the gyro bias per second, the calibrated re-run came
+  //   late or never, and the drifting figure-8 at 20 Hz from the start pose landed at 1.13 m
+  //   (with the share 0.31 m);
+  // - longer, only where the ranges re-fix the heading often enough to select among the
+  //   particles' headings (heading_rate_bias_max_drift_rad's rule, as for the spreads below):
+  //   a slow robot (1 s steps, a range every 2 s) whose gyro walks 0.0067 rad per step lost
+  //   its path with 0.005 (start pose / beacons 3.41 / 3.91 m over ten seeds; 0.74 / 0.36 with
+  //   the share). Where the ranges are too sparse for that (an AUV: a fix every 3 s or more) the
+  //   particles cannot carry more heading spread than the per-step sigma: heading noise grown
+  //   with the synthetic AUV's 3 s steps (0.0112 rad) took it from 14.8 to 26.3 m, and an AUV's
+  //   heading comes from a compass, whose error does not grow with the step.
+  // 0 for a bound: no share on that side.
+  double odo_heading_step_min_s = 0.15;
+  double odo_heading_step_max_s = 0.25;
   // A covariance reported with the odometry is used, each variance floored by the above
   // (roam::estimation::incrementCovariance): a file that states centimetres for odometry good
   // to a metre cannot make the filter overconfident.

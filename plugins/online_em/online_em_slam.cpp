@@ -195,6 +195,9 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
   // 0.37 -> 0.49 m; on regardless until then, an AUV-like run, seed 406, went 4.9 -> 27.2 m).
   const bool ranges_select = bias_rate_.estimateSoFar();
   motion_.enableScaleSpread(ranges_select);
+  // The heading noise of a long step shared out per second by the same rule (the particles can
+  // carry more heading spread only where the ranges re-fix the heading; OnlineEmConfig).
+  motion_.shareHeadingNoiseOverLongSteps(ranges_select);
   // The bias spread by the same rule (b is fixed at 0 where it does not hold). Not while
   // replaying the calibrated re-run: b is fixed at its learned value there.
   motion_.enableBiasSpread(ranges_select && !replaying_);

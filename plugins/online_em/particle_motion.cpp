@@ -13,11 +13,13 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 }  // namespace
 
-double headingSigma_rad(const OnlineEmConfig& config, double dt_s) {
-  const double step_s = config.odo_heading_step_s;
+double headingSigma_rad(const OnlineEmConfig& config, double dt_s, bool share_long_steps) {
   // (utime differences in seconds round: 200000 us is 0.19999999999999998 s, a whole step)
-  if (!(step_s > 0.0) || !(dt_s > 0.0) || dt_s >= step_s * (1.0 - 1e-9)) return config.odo_heading_sigma_rad;
-  return config.odo_heading_sigma_rad * std::sqrt(dt_s / step_s);
+  const double sigma = config.odo_heading_sigma_rad, low = config.odo_heading_step_min_s, high = config.odo_heading_step_max_s;
+  if (!(dt_s > 0.0)) return sigma;
+  if (low > 0.0 && dt_s < low * (1.0 - 1e-9)) return sigma * std::sqrt(dt_s / low);
+  if (share_long_steps && high > 0.0 && dt_s > high * (1.0 + 1e-9)) return sigma * std::sqrt(dt_s / high);
+  return sigma;
 }
 
 Eigen::Matrix3d ParticleMotion::noiseCovariance(const Odometry& odometry, double dt_s) const {
@@ -26,7 +28,7 @@ Eigen::Matrix3d ParticleMotion::noiseCovariance(const Odometry& odometry, double
   noise.min_sigma_m = config_.odo_distance_sigma_m;
   noise.heading_rad_per_m = 0.0;
   noise.heading_rad_per_sqrt_s = 0.0;
-  noise.min_sigma_rad = headingSigma_rad(config_, dt_s);
+  noise.min_sigma_rad = headingSigma_rad(config_, dt_s, heading_share_long_steps_);
   noise.use_reported_covariance = config_.use_reported_covariance;
   return estimation::incrementCovariance(odometry, dt_s, noise);
 }

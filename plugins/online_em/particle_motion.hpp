@@ -55,9 +55,10 @@ struct ParticlePoses {
 };
 
 // The heading noise sigma of one step of dt_s seconds: odo_heading_sigma_rad, shared out as a
-// random walk over steps shorter than odo_heading_step_s (OnlineEmConfig). A step of unknown
-// length (dt_s <= 0) gets the per-step sigma.
-double headingSigma_rad(const OnlineEmConfig& config, double dt_s);
+// random walk over steps shorter than odo_heading_step_min_s and, with share_long_steps (the
+// ranges re-fix the heading often enough), over steps longer than odo_heading_step_max_s
+// (OnlineEmConfig). A step of unknown length (dt_s <= 0) gets the per-step sigma.
+double headingSigma_rad(const OnlineEmConfig& config, double dt_s, bool share_long_steps);
 
 class ParticleMotion {
  public:
@@ -76,6 +77,10 @@ class ParticleMotion {
   // allows it, OnlineEmConfig::scaleSpreadActive; the filter enables it once the ranges are
   // dense enough to select among the particles' scales).
   void enableScaleSpread(bool enabled) { scale_spread_enabled_ = enabled; }
+  // Steps longer than odo_heading_step_max_s get their share of the heading noise per second
+  // from the next setControl on (headingSigma_rad; the filter enables it where the ranges re-fix
+  // the heading often enough to select among the particles' headings).
+  void shareHeadingNoiseOverLongSteps(bool enabled) { heading_share_long_steps_ = enabled; }
   bool scaleSpread() const { return config_.scaleSpreadActive() && scale_spread_enabled_; }
   // The same for the per-particle heading-rate bias deviation (OnlineEmConfig::biasSpreadActive).
   void enableBiasSpread(bool enabled) { bias_spread_enabled_ = enabled; }
@@ -119,6 +124,7 @@ class ParticleMotion {
   double translation_noise_scale_ = 1.0;
   // Per-particle scale deviation: AR(1) coefficient a and innovation sigma (0: off).
   bool scale_spread_ = false, scale_spread_enabled_ = false;
+  bool heading_share_long_steps_ = false;
   double scale_ar_ = 1.0, scale_innovation_sigma_ = 0.0;
   // Per-particle bias deviation: AR(1) coefficient and innovation sigma (rad/s) over the step.
   bool bias_spread_ = false, bias_spread_enabled_ = false;

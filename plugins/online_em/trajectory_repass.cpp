@@ -23,6 +23,7 @@ Path OnlineEmSlam::repassPath(std::vector<estimation::PoseTransition>* transitio
   standstill.reset();
   motion.setTranslationNoiseScale(motion_noise_scale_);
   motion.enableScaleSpread(false);
+  motion.shareHeadingNoiseOverLongSteps(bias_rate_.estimateSoFar());  // as the forward pass ended
   std::mt19937_64 rng(static_cast<uint64_t>(config_.seed) + 0x9e3779b97f4a7c15ULL);
   ParticlePoses particles, previous;
   particles.resize(n);
