@@ -51,7 +51,7 @@ struct OnlineEmConfig {
   // - longer, only where the ranges re-fix the heading often enough to select among the
   //   particles' headings (heading_rate_bias_max_drift_rad's rule, as for the spreads below):
   //   a slow robot (1 s steps, a range every 2 s) whose gyro walks 0.0067 rad per step lost
-  //   its path with 0.005 (start pose / beacons 3.41 / 3.91 m over ten seeds; 0.74 / 0.36 with
+  //   its path with 0.005 (start pose / beacons 3.41 / 3.91 m over ten seeds; 0.66 / 0.36 with
   //   the share). Where the ranges are too sparse for that (an AUV: a fix every 3 s or more) the
   //   particles cannot carry more heading spread than the per-step sigma: heading noise grown
   //   with the synthetic AUV's 3 s steps (0.0112 rad) took it from 14.8 to 26.3 m, and an AUV's

@@ -73,14 +73,14 @@ class ParticleMotion {
   // Multiplies the translation (forward, lateral) standard deviations of the odometry model by
   // `scale` from the next setControl on (the adaptive motion noise; 1 = as configured).
   void setTranslationNoiseScale(double scale) { translation_noise_scale_ = scale; }
-  // Enables the per-particle scale deviation from the next setControl on (where the config
-  // allows it, OnlineEmConfig::scaleSpreadActive; the filter enables it once the ranges are
-  // dense enough to select among the particles' scales).
-  void enableScaleSpread(bool enabled) { scale_spread_enabled_ = enabled; }
   // Steps longer than odo_heading_step_max_s get their share of the heading noise per second
   // from the next setControl on (headingSigma_rad; the filter enables it where the ranges re-fix
   // the heading often enough to select among the particles' headings).
   void shareHeadingNoiseOverLongSteps(bool enabled) { heading_share_long_steps_ = enabled; }
+  // Enables the per-particle scale deviation from the next setControl on (where the config
+  // allows it, OnlineEmConfig::scaleSpreadActive; the filter enables it once the ranges are
+  // dense enough to select among the particles' scales).
+  void enableScaleSpread(bool enabled) { scale_spread_enabled_ = enabled; }
   bool scaleSpread() const { return config_.scaleSpreadActive() && scale_spread_enabled_; }
   // The same for the per-particle heading-rate bias deviation (OnlineEmConfig::biasSpreadActive).
   void enableBiasSpread(bool enabled) { bias_spread_enabled_ = enabled; }
@@ -122,9 +122,9 @@ class ParticleMotion {
   Eigen::Matrix3d covariance_ = Eigen::Matrix3d::Zero();
   double steer_rad_ = 0.0, sigma_step_m_ = 0.0;  // bicycle: psi and sigma_v dt
   double translation_noise_scale_ = 1.0;
+  bool heading_share_long_steps_ = false;  // shareHeadingNoiseOverLongSteps
   // Per-particle scale deviation: AR(1) coefficient a and innovation sigma (0: off).
   bool scale_spread_ = false, scale_spread_enabled_ = false;
-  bool heading_share_long_steps_ = false;
   double scale_ar_ = 1.0, scale_innovation_sigma_ = 0.0;
   // Per-particle bias deviation: AR(1) coefficient and innovation sigma (rad/s) over the step.
   bool bias_spread_ = false, bias_spread_enabled_ = false;
