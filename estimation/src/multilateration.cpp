@@ -1,8 +1,6 @@
 #include "roam/estimation/multilateration.hpp"
 #include "roam/estimation/range_model.hpp"
 
-#include <ceres/ceres.h>
-
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -15,18 +13,73 @@ namespace estimation {
 namespace {
 
 
-struct RangeError {
-  RangeError(double x_m, double y_m, double range_m, double sigma_m)
-      : x_m(x_m), y_m(y_m), range_m(range_m), sigma_m(sigma_m) {}
-  template <typename T>
-  bool operator()(const T* beacon, T* residual) const {
-    using std::sqrt;
-    const T dx = beacon[0] - x_m, dy = beacon[1] - y_m;
-    residual[0] = (sqrt(dx * dx + dy * dy + T(1e-18)) - range_m) / sigma_m;
-    return true;
+// sum_i rho(e_i^2) / 2 with the Cauchy loss at scale c, e_i = (|m - p_i| - r_i) / sigma.
+double cauchyCost(const std::vector<std::array<double, 2>>& positions_m, const std::vector<double>& ranges_m,
+                  double sigma_m, double c, const Eigen::Vector2d& m) {
+  double cost = 0.0;
+  for (size_t i = 0; i < positions_m.size(); ++i) {
+    const double e = (std::hypot(m.x() - positions_m[i][0], m.y() - positions_m[i][1]) - ranges_m[i]) / sigma_m;
+    cost += 0.5 * c * c * std::log1p(e * e / (c * c));
   }
-  double x_m, y_m, range_m, sigma_m;
-};
+  return cost;
+}
+
+// Minimises cauchyCost over m from *m by Newton's method with step halving, so every accepted
+// step lowers the cost. Per range, with u = (m - p_i) / d_i, e_i = (d_i - r_i) / sigma,
+// s = e_i^2, rho' = 1 / (1 + s / c^2) and rho'' = -rho'^2 / c^2:
+//   gradient  sum_i rho' e_i u / sigma,
+//   Hessian   sum_i (rho' + 2 rho'' s) u u^T / sigma^2 + rho' e_i (I - u u^T) / (d_i sigma).
+// Where an outlier's negative curvature leaves the Hessian indefinite, the Gauss-Newton matrix
+// with the Cauchy weights (sum_i rho' u u^T / sigma^2, what Ceres uses for a loss with
+// rho'' <= 0) takes its place; that is a descent direction too, but converges only linearly
+// (~40 iterations on a Plaza-sized beacon against ~5). A 2-parameter problem: a Ceres solve per
+// call cost more in set-up and Jacobian bookkeeping than in arithmetic, and spectral_batch's
+// heading-rate bias scan makes ~100 of them. False if the cost or the step is not finite.
+bool minimiseCauchy(const std::vector<std::array<double, 2>>& positions_m, const std::vector<double>& ranges_m,
+                    double sigma_m, double c, Eigen::Vector2d* m) {
+  constexpr int kMaxIterations = 100;
+  constexpr int kMaxHalvings = 40;
+  double cost = cauchyCost(positions_m, ranges_m, sigma_m, c, *m);
+  if (!std::isfinite(cost)) return false;
+  for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
+    Eigen::Matrix2d newton = Eigen::Matrix2d::Zero(), gauss_newton = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d g = Eigen::Vector2d::Zero();
+    for (size_t i = 0; i < positions_m.size(); ++i) {
+      const Eigen::Vector2d d = *m - Eigen::Vector2d(positions_m[i][0], positions_m[i][1]);
+      const double distance_m = std::max(d.norm(), 1e-9);
+      const Eigen::Vector2d u = d / distance_m;
+      const double e = (distance_m - ranges_m[i]) / sigma_m;
+      const double rho1 = cauchyWeight(e, c);
+      const double rho2 = -rho1 * rho1 / (c * c);
+      const Eigen::Matrix2d uu = u * u.transpose();
+      gauss_newton += rho1 / (sigma_m * sigma_m) * uu;
+      newton += (rho1 + 2.0 * rho2 * e * e) / (sigma_m * sigma_m) * uu +
+                rho1 * e / (distance_m * sigma_m) * (Eigen::Matrix2d::Identity() - uu);
+      g += rho1 * e / sigma_m * u;
+    }
+    const Eigen::LDLT<Eigen::Matrix2d> newton_ldlt(newton);
+    const bool positive = newton_ldlt.info() == Eigen::Success && newton_ldlt.isPositive() &&
+                          (newton_ldlt.vectorD().array() > 0.0).all();
+    const Eigen::Vector2d step =
+        positive ? Eigen::Vector2d(-newton_ldlt.solve(g)) : Eigen::Vector2d(-gauss_newton.ldlt().solve(g));
+    if (!step.allFinite()) return false;
+    double t = 1.0;
+    bool progressing = false;  // a lower cost, by more than rounding, at a step above rounding
+    for (int halving = 0; halving < kMaxHalvings; ++halving, t *= 0.5) {
+      const Eigen::Vector2d trial = *m + t * step;
+      const double trial_cost = cauchyCost(positions_m, ranges_m, sigma_m, c, trial);
+      if (trial_cost < cost) {
+        const double decrease = cost - trial_cost;
+        *m = trial;
+        cost = trial_cost;
+        progressing = decrease > 1e-12 * cost && t * step.norm() > 1e-10 * (1.0 + m->norm());
+        break;
+      }
+    }
+    if (!progressing) break;
+  }
+  return m->allFinite();
+}
 
 // Consensus: Gauss-Newton on the ranges flagged in `use`, from m.
 Eigen::Vector2d refine(const std::vector<Eigen::Vector2d>& positions_m, const std::vector<double>& ranges_m,
@@ -96,41 +149,20 @@ bool multilaterateRobust(const std::vector<std::array<double, 2>>& positions_m,
                          const std::vector<double>& ranges_m, double sigma_m,
                          RobustMultilateration* result) {
   if (!(sigma_m > 0.0)) return false;
-  std::array<double, 2> beacon{0.0, 0.0};
-  if (!multilaterateLinear(positions_m, ranges_m, &beacon)) return false;
-  ceres::Problem::Options problem_options;
-  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
-  ceres::LossFunctionWrapper loss(nullptr, ceres::TAKE_OWNERSHIP);
-  std::vector<ceres::ResidualBlockId> blocks;
-  for (size_t i = 0; i < positions_m.size(); ++i)
-    blocks.push_back(problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<RangeError, 1, 2>(
-            new RangeError(positions_m[i][0], positions_m[i][1], ranges_m[i], sigma_m)),
-        &loss, beacon.data()));
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = 100;
-  options.logging_type = ceres::SILENT;
-  options.num_threads = 1;
-  for (const double factor : {16.0, 4.0, 1.0}) {
-    loss.Reset(new ceres::CauchyLoss(kCauchy95 * factor), ceres::TAKE_OWNERSHIP);
-    ceres::Solver::Summary summary;
-    ceres::Solve(options, &problem, &summary);
-    if (!summary.IsSolutionUsable()) return false;
-  }
-  result->beacon_m = beacon;
-  result->cost = 0.0;
+  std::array<double, 2> linear{0.0, 0.0};
+  if (!multilaterateLinear(positions_m, ranges_m, &linear)) return false;
+  Eigen::Vector2d beacon(linear[0], linear[1]);
+  for (const double factor : {16.0, 4.0, 1.0})
+    if (!minimiseCauchy(positions_m, ranges_m, sigma_m, kCauchy95 * factor, &beacon)) return false;
+  result->beacon_m = {beacon.x(), beacon.y()};
+  result->cost = cauchyCost(positions_m, ranges_m, sigma_m, kCauchy95, beacon);
   result->inliers = 0;
-  for (ceres::ResidualBlockId id : blocks) {
-    double cost = 0.0, residual = 0.0;
-    problem.EvaluateResidualBlock(id, true, &cost, &residual, nullptr);
-    double raw_cost = 0.0;
-    problem.EvaluateResidualBlock(id, false, &raw_cost, &residual, nullptr);  // the residual itself
-    result->cost += cost;
+  for (size_t i = 0; i < positions_m.size(); ++i) {
+    const double residual =
+        (std::hypot(beacon.x() - positions_m[i][0], beacon.y() - positions_m[i][1]) - ranges_m[i]) / sigma_m;
     if (std::abs(residual) <= 3.0 * kCauchy95) ++result->inliers;
   }
-  return std::isfinite(beacon[0]) && std::isfinite(beacon[1]);
+  return beacon.allFinite();
 }
 
 namespace {

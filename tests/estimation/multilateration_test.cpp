@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include "roam/estimation/multilateration.hpp"
 
@@ -75,6 +76,21 @@ TEST(Multilateration, RobustHoldsThirtyPercentLongOutliers) {
   EXPECT_GT(linear_error, 2.0);
   EXPECT_LT(robust_error, 0.15);
   EXPECT_NEAR(robust.inliers, 200 - outliers, 5);
+  // The reported cost is sum_i rho(e_i^2) / 2 (Cauchy, c = 2.385) at the solution, and the
+  // solution is its minimum: a millimetre any way costs more.
+  auto cost = [&](double x_m, double y_m) {
+    const double c = 2.385;
+    double sum = 0.0;
+    for (size_t i = 0; i < positions.size(); ++i) {
+      const double e = (std::hypot(x_m - positions[i][0], y_m - positions[i][1]) - ranges[i]) / 0.3;
+      sum += 0.5 * c * c * std::log1p(e * e / (c * c));
+    }
+    return sum;
+  };
+  const double at = cost(robust.beacon_m[0], robust.beacon_m[1]);
+  EXPECT_NEAR(robust.cost, at, 1e-9 * at);
+  for (const auto& [dx, dy] : {std::pair{1e-3, 0.0}, {-1e-3, 0.0}, {0.0, 1e-3}, {0.0, -1e-3}})
+    EXPECT_GT(cost(robust.beacon_m[0] + dx, robust.beacon_m[1] + dy), at);
 }
 
 TEST(MultilaterationConsensus, ExactOnNoiseFreeRangesAndRefusesBadInput) {
