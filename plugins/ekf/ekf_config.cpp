@@ -26,6 +26,7 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("stationary_min_steps", &c->stationary_min_steps, "slow steps in a row turning at one rate before the zero-rate update").min(1);
   o.add("smooth_trajectory", &c->smooth_trajectory, "TRAJECTORY smoothed backwards (Rauch-Tung-Striebel); false: the filtered path");
   o.add("smooth_max_memory_mb", &c->smooth_max_memory_mb, "memory the smoother may keep; beyond it the oldest poses stay filtered").min(0.0, false);
+  o.add("smooth_live_lag_s", &c->smooth_live_lag_s, "live TRAJECTORY requests smooth the last this many seconds of data (0: the whole path); the end of input smooths all").min(0.0);
   o.add("calib_rerun_fraction", &c->calib_rerun_fraction, "start_pose: re-filter from the start once the bias sigma is this fraction of its prior (0: never)").min(0.0).max(1.0);
   o.add("recover_after_gated", &c->recover_after_gated, "ranges gated in a row before the position variance is widened (0: never)").min(0);
   o.add("motion_noise_max_scale", &c->motion_noise_max_scale, "largest factor on the odometry covariance after starvation").min(1.0);

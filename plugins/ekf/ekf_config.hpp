@@ -55,6 +55,14 @@ struct EkfConfig {
   // beacons, O(state size)); past it the oldest poses keep their filtered estimate. 256 MB is
   // ~10 h of a 5 Hz run with 4 beacons.
   double smooth_max_memory_mb = 256.0;
+  // Live (the host's periodic TRAJECTORY request before the end of input): the backward pass
+  // runs over the last smooth_live_lag_s of data only (and every pose since the previous
+  // request); older poses keep the smoothed values they were last published with. A whole pass
+  // per request cost O(run length), 70 ms per request at the end of Plaza 1, and stalled the
+  // live host. At the end of input the whole pass runs, so the final TRAJECTORY is unchanged.
+  // 60 s: a range's smoothing effect on a pose fades as the odometry between them grows
+  // uncertain (at UWB rates a pose is re-fixed within seconds). 0: the whole pass every time.
+  double smooth_live_lag_s = 60.0;
 
   // Range noise: max(the message's sigma, range_sigma_m) (a stated sigma is a floor, not truth).
   double range_sigma_m = 0.5;

@@ -68,6 +68,7 @@ void EkfSlam::start(const Pose& pose) {
   nodes_.clear();
   trailing_.clear();
   first_smoothed_ = 0;
+  ++smoother_generation_;
   smoother_bytes_ = 0;
   pushPose(SmootherNode{});
   setState(EstimatorState::kTracking);
@@ -272,6 +273,7 @@ void EkfSlam::truncatePath(size_t size) {
   for (size_t k = std::max(size, first_smoothed_); k < nodes_.size(); ++k) smoother_bytes_ -= memoryBytes(nodes_[k]);
   nodes_.resize(size);
   first_smoothed_ = std::min(first_smoothed_, size);
+  ++smoother_generation_;
 }
 
 Eigen::Matrix3d EkfSlam::scaledMotionNoise(const Eigen::Matrix3d& Q) const {
@@ -695,7 +697,28 @@ void EkfSlam::finish() {
 
 bool EkfSlam::trajectory(bool /*force*/, Path* path) {
   if (path_.empty()) return false;
-  *path = config_.smooth_trajectory ? smoothPath(path_, nodes_, trailing_, first_smoothed_) : path_;
+  if (!config_.smooth_trajectory) {
+    *path = path_;
+    return true;
+  }
+  const bool live = state() != EstimatorState::kFinished && config_.smooth_live_lag_s > 0.0 &&
+                    live_smoothed_generation_ == smoother_generation_ && !live_smoothed_.empty();
+  if (!live) {
+    *path = smoothPath(path_, nodes_, trailing_, first_smoothed_);
+  } else {
+    // Fixed lag: the backward pass from the end down to the last smooth_live_lag_s of data, and
+    // at least down to the first pose the previous request did not have; before that, the
+    // previous request's values (the same nodes: the generation is unchanged).
+    const int64_t lag_us = static_cast<int64_t>(config_.smooth_live_lag_s * 1e6);
+    size_t from = std::min(path_.size() - 1, live_smoothed_.size());
+    while (from > first_smoothed_ && path_[from - 1].utime >= path_.back().utime - lag_us) --from;
+    *path = smoothPath(path_, nodes_, trailing_, std::max(from, first_smoothed_));
+    for (size_t k = first_smoothed_; k < from; ++k) (*path)[k] = live_smoothed_[k];
+  }
+  if (state() != EstimatorState::kFinished) {
+    live_smoothed_ = *path;
+    live_smoothed_generation_ = smoother_generation_;
+  }
   return true;
 }
 

@@ -169,6 +169,10 @@ class EkfSlam : public Estimator {
   std::vector<SmootherOperation> trailing_;
   size_t first_smoothed_ = 0;  // nodes_ before it were released (smooth_max_memory_mb)
   size_t smoother_bytes_ = 0;  // what nodes_ from first_smoothed_ on hold
+  // The last TRAJECTORY before the end of input (smooth_live_lag_s) and the nodes_ it was
+  // smoothed from: a re-run or a new start cuts nodes_ and bumps the generation.
+  Path live_smoothed_;
+  uint64_t smoother_generation_ = 0, live_smoothed_generation_ = 0;
   bool map_dirty_ = false;
   std::vector<Initialisation> initialisations_;
   // Each pending beacon's last batch-solve status (STATUS: why it is not initialised).
