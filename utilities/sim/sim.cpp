@@ -206,6 +206,8 @@ SimRun simulate(const SimConfig& c) {
   if (c.num_steps < 1) throw std::invalid_argument("num_steps must be >= 1");
   if (c.dt_s <= 0.0) throw std::invalid_argument("dt_s must be > 0");
   if (!(c.hold_s >= 0.0) || !std::isfinite(c.hold_s)) throw std::invalid_argument("hold_s must be a finite number >= 0");
+  if (!(c.odo_heading_bias_walk_radps_per_sqrt_s >= 0.0) || !std::isfinite(c.odo_heading_bias_walk_radps_per_sqrt_s))
+    throw std::invalid_argument("the gyro bias walk must be a finite number >= 0 (rad/s per sqrt(s))");
   for (const RangeGap& gap : c.range_gaps) {
     if (!(gap.start_s >= 0.0) || !std::isfinite(gap.start_s) || !(gap.duration_s > 0.0) ||
         !std::isfinite(gap.duration_s))
@@ -233,7 +235,12 @@ SimRun simulate(const SimConfig& c) {
     controls.resize(c.num_steps);
   }
 
-  // Ground truth and odometry.
+  // Ground truth and odometry. The gyro bias walks on its own stream (seeded from the seed), so
+  // a run with a walk differs from the same seed's without one only in the reported turns.
+  // (its own distribution too: a normal_distribution keeps the second draw of each pair).
+  std::mt19937_64 bias_rng(c.seed ^ 0x9e3779b97f4a7c15ULL);
+  std::normal_distribution<double> bias_normal(0.0, 1.0);
+  double bias_radps = c.odo_heading_bias_radps;
   const int64_t dt_us = static_cast<int64_t>(std::llround(c.dt_s * 1e6));
   Pose pose = run.start;
   run.ground_truth.push_back(pose);
@@ -253,7 +260,9 @@ SimRun simulate(const SimConfig& c) {
     odo.forward_m = std::max(0.0, c.odo_distance_scale * u.distance_m + sigma_d * normal(rng));
     if (c.odo_lateral_sigma_rel > 0.0) odo.lateral_m = c.odo_lateral_sigma_rel * u.distance_m * normal(rng);
     const double heading_sigma_rad = k < hold_steps && c.hold_heading_sigma_rad >= 0.0 ? c.hold_heading_sigma_rad : c.odo_heading_sigma_rad;
-    odo.delta_heading_rad = u.dheading_rad + c.odo_heading_bias_radps * c.dt_s + heading_sigma_rad * normal(rng);
+    odo.delta_heading_rad = u.dheading_rad + bias_radps * c.dt_s + heading_sigma_rad * normal(rng);
+    if (c.odo_heading_bias_walk_radps_per_sqrt_s > 0.0)
+      bias_radps += c.odo_heading_bias_walk_radps_per_sqrt_s * std::sqrt(c.dt_s) * bias_normal(bias_rng);
     run.odometry.push_back(odo);
     pose = next;
   }

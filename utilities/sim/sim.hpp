@@ -4,7 +4,9 @@
 // integrates exactly to the ground truth: x += d cos(theta); y += d sin(theta); theta += dtheta.
 // Odometry is the true step distorted as a real sensor distorts it:
 //   forward = odo_distance_scale * d + noise,  lateral = noise,
-//   dtheta_reported = dtheta + odo_heading_bias_radps * dt + noise   (a gyro's bias)
+//   dtheta_reported = dtheta + b_k * dt + noise   (a gyro's bias b; b_0 = odo_heading_bias_radps,
+//   b_k+1 = b_k + odo_heading_bias_walk_radps_per_sqrt_s * sqrt(dt) * N(0, 1): a MEMS gyro's bias
+//   instability, drawn from its own random stream so the rest of the run is the same seed's)
 // so a calibrating estimator should recover distance_scale = 1 / odo_distance_scale and
 // heading_rate_bias = odo_heading_bias_radps. Ranges are taken at pose
 // times (the end of an odometry step) to beacons in the world frame:
@@ -76,6 +78,7 @@ struct SimConfig {
   double odo_lateral_sigma_rel = 0.0;    // lateral noise sigma per metre of the step
   double odo_distance_scale = 1.0;       // reported forward = scale * true
   double odo_heading_bias_radps = 0.0;   // reported turn = true + bias * dt
+  double odo_heading_bias_walk_radps_per_sqrt_s = 0.0;  // the bias's random walk (0: constant)
 
   RangeSchedule schedule = RangeSchedule::kEveryStepAllBeacons;
   double range_rate_hz = 2.0;       // round-robin rate (ranges per second, all beacons)

@@ -69,6 +69,8 @@ int main(int argc, char** argv) {
        "reported forward distance = scale * true (an odometry scale error)")
       ("gyro-bias", po::value(&c.odo_heading_bias_radps)->default_value(c.odo_heading_bias_radps),
        "reported turn = true + bias * dt (rad/s; a drifting gyro)")
+      ("gyro-bias-walk", po::value(&c.odo_heading_bias_walk_radps_per_sqrt_s)->default_value(c.odo_heading_bias_walk_radps_per_sqrt_s),
+       "the gyro bias's random walk (rad/s per sqrt(s); 0: constant; a MEMS gyro's bias instability: ~1e-5)")
       ("schedule", po::value(&schedule)->default_value(schedule),
        "all (every beacon at every pose) | round_robin (one beacon at a time, like UWB)")
       ("range-rate", po::value(&c.range_rate_hz)->default_value(c.range_rate_hz), "round robin: ranges per second")
