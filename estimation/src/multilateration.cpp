@@ -13,12 +13,18 @@ namespace estimation {
 namespace {
 
 
-// sum_i rho(e_i^2) / 2 with the Cauchy loss at scale c, e_i = (|m - p_i| - r_i) / sigma.
+// The whitened range residual e = (|m - p| - r) / sigma.
+double whitenedResidual(const std::array<double, 2>& position_m, double range_m, double sigma_m,
+                        const Eigen::Vector2d& m) {
+  return (std::hypot(m.x() - position_m[0], m.y() - position_m[1]) - range_m) / sigma_m;
+}
+
+// sum_i rho(e_i^2) / 2 with the Cauchy loss at scale c.
 double cauchyCost(const std::vector<std::array<double, 2>>& positions_m, const std::vector<double>& ranges_m,
                   double sigma_m, double c, const Eigen::Vector2d& m) {
   double cost = 0.0;
   for (size_t i = 0; i < positions_m.size(); ++i) {
-    const double e = (std::hypot(m.x() - positions_m[i][0], m.y() - positions_m[i][1]) - ranges_m[i]) / sigma_m;
+    const double e = whitenedResidual(positions_m[i], ranges_m[i], sigma_m, m);
     cost += 0.5 * c * c * std::log1p(e * e / (c * c));
   }
   return cost;
@@ -157,11 +163,9 @@ bool multilaterateRobust(const std::vector<std::array<double, 2>>& positions_m,
   result->beacon_m = {beacon.x(), beacon.y()};
   result->cost = cauchyCost(positions_m, ranges_m, sigma_m, kCauchy95, beacon);
   result->inliers = 0;
-  for (size_t i = 0; i < positions_m.size(); ++i) {
-    const double residual =
-        (std::hypot(beacon.x() - positions_m[i][0], beacon.y() - positions_m[i][1]) - ranges_m[i]) / sigma_m;
-    if (std::abs(residual) <= 3.0 * kCauchy95) ++result->inliers;
-  }
+  for (size_t i = 0; i < positions_m.size(); ++i)
+    if (std::abs(whitenedResidual(positions_m[i], ranges_m[i], sigma_m, beacon)) <= 3.0 * kCauchy95)
+      ++result->inliers;
   return beacon.allFinite();
 }
 

@@ -701,9 +701,12 @@ bool EkfSlam::trajectory(bool /*force*/, Path* path) {
     *path = path_;
     return true;
   }
-  const bool live = state() != EstimatorState::kFinished && config_.smooth_live_lag_s > 0.0 &&
-                    live_smoothed_generation_ == smoother_generation_ && !live_smoothed_.empty();
-  if (!live) {
+  // Before the end of input, a previous request's values over the same nodes can stand in for
+  // the poses older than the lag.
+  const bool finished = state() == EstimatorState::kFinished;
+  const bool fixed_lag = !finished && config_.smooth_live_lag_s > 0.0 &&
+                         live_smoothed_generation_ == smoother_generation_ && !live_smoothed_.empty();
+  if (!fixed_lag) {
     *path = smoothPath(path_, nodes_, trailing_, first_smoothed_);
   } else {
     // Fixed lag: the backward pass from the end down to the last smooth_live_lag_s of data, and
@@ -715,7 +718,7 @@ bool EkfSlam::trajectory(bool /*force*/, Path* path) {
     *path = smoothPath(path_, nodes_, trailing_, std::max(from, first_smoothed_));
     for (size_t k = first_smoothed_; k < from; ++k) (*path)[k] = live_smoothed_[k];
   }
-  if (state() != EstimatorState::kFinished) {
+  if (!finished) {
     live_smoothed_ = *path;
     live_smoothed_generation_ = smoother_generation_;
   }

@@ -235,9 +235,9 @@ SimRun simulate(const SimConfig& c) {
     controls.resize(c.num_steps);
   }
 
-  // Ground truth and odometry. The gyro bias walks on its own stream (seeded from the seed), so
-  // a run with a walk differs from the same seed's without one only in the reported turns.
-  // (its own distribution too: a normal_distribution keeps the second draw of each pair).
+  // Ground truth and odometry. The gyro bias walks on its own stream (seeded from the seed) and
+  // its own distribution (a normal_distribution keeps the second draw of each pair), so a run
+  // with a walk differs from the same seed's without one only in the reported turns.
   std::mt19937_64 bias_rng(c.seed ^ 0x9e3779b97f4a7c15ULL);
   std::normal_distribution<double> bias_normal(0.0, 1.0);
   double bias_radps = c.odo_heading_bias_radps;

@@ -6,8 +6,9 @@
 // Robust: from the linear solution, minimise sum_i rho(((|m - p_i| - r_i) / sigma)^2) with the
 // Cauchy loss rho(s) = c^2 log(1 + s / c^2), c = 2.385 (95 % efficiency on Gaussian inliers),
 // annealed from 16 c down to c so a start pulled by outliers is not down-weighted into a stall
-// (Gauss-Newton with the Cauchy weights and step halving; a 2-parameter problem). Outliers (non-line-of-sight, echoes) then weigh
-// almost nothing, where the linear solution takes them at full weight.
+// (Newton's method with step halving, a 2-parameter problem; multilateration.cpp). Outliers
+// (non-line-of-sight, echoes) then weigh almost nothing, where the linear solution takes them at
+// full weight.
 #pragma once
 
 #include <array>
