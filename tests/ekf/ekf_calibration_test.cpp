@@ -500,12 +500,14 @@ namespace roam {
 namespace ekf {
 namespace {
 
-// Adds to every range its beacon's own offset, |offset| uniform in [min_m, max_m], random sign.
+// Adds to every range its beacon's own offset, |offset| uniform in [min_m, max_m], random sign
+// (roam-sim's --beacon-offset-min / --beacon-offset-max draw, from `seed`).
 void addPerBeaconOffsets(sim::SimRun* run, uint64_t seed, double min_m, double max_m) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> magnitude_m(min_m, max_m);
-  std::map<int, double> offset_m;
-  for (const Beacon& beacon : run->beacons) offset_m[beacon.id] = (rng() & 1 ? 1.0 : -1.0) * magnitude_m(rng);
+  sim::SimConfig offsets_config;
+  offsets_config.seed = seed;
+  offsets_config.beacon_offset_min_m = min_m;
+  offsets_config.beacon_offset_max_m = max_m;
+  const std::map<int, double> offset_m = sim::beaconOffsets(offsets_config, run->beacons);
   for (Range& range : run->ranges) range.range_m += offset_m.at(range.beacon_id);
 }
 
@@ -524,10 +526,12 @@ TEST(EkfCalibration, GoatsLikeAuvWithPerBeaconRangeOffsetsStaysBelowDeadReckonin
   // The development AUV-like run as GOATS 16 has it: every beacon's ranges carry their own offset
   // of 1-2 m (random sign; a transponder's turn-around delay) and the odometry heading is nearly
   // exact (0.0005 rad per step). Surveyed beacons, per-beacon offset states (the default, 1.5 m)
-  // against none. Measured over seeds 501-516 (x dead reckoning): 0.16-1.12 with the states,
-  // 0.16-1.49 without; summed error 101.2 m against 104.1 m. The offsets are a small part of
-  // these runs' error (2 m range noise, 45 % outliers, 15 % odometry); the target is 1.25 x DR.
-  double sum_with_m = 0.0, sum_without_m = 0.0;
+  // against none. Measured over seeds 501-516 (x dead reckoning): 0.16-1.06 with the states,
+  // 0.20-0.98 without; summed error 99.4 m against 92.8 m. With an earlier draw of the same
+  // offsets (sign drawn before magnitude) the sums were 101.2 against 104.1 m: on these runs
+  // (2 m range noise, 45 % outliers, 15 % odometry) the offsets are a small part of the error and
+  // the states neither help nor hurt reliably; what holds on every seed is the bound, 1.25 x DR.
+  // The states pay off where ranges are clean (UWB anchor delays, below).
   for (uint64_t seed = 501; seed <= 516; ++seed) {
     sim::SimConfig world = sim::auvLikeWorld(seed, 500);
     world.odo_heading_sigma_rad = 0.0005;
@@ -538,18 +542,17 @@ TEST(EkfCalibration, GoatsLikeAuvWithPerBeaconRangeOffsetsStaysBelowDeadReckonin
     std::printf("GOATS-like AUV seed %d: per-beacon offsets %.2f m, none %.2f m, dead reckoning %.2f m\n",
                 static_cast<int>(seed), with_m, without_m, dr_m);
     EXPECT_LT(with_m, 1.25 * dr_m) << "seed " << seed;
-    sum_with_m += with_m;
-    sum_without_m += without_m;
+    EXPECT_LT(without_m, 1.25 * dr_m) << "seed " << seed;
   }
-  EXPECT_LT(sum_with_m, sum_without_m);
 }
 
 TEST(EkfCalibration, UwbAnchorDelaysArePerBeaconOffsets) {
   // The development gyro-drift figure-8 (UWB-like: 0.3 m range noise) with each anchor's own delay,
   // 0.2-0.5 m: with surveyed beacons and no per-beacon states the shared offset cannot explain
-  // them (only their mean) and the path bends between beacons. Measured (seeds 201-203): 0.179 /
-  // 0.177 / 0.173 m with the states, 0.259 / 0.295 / 0.190 m without (the shared offset takes
-  // the draws' mean: the less they differ, the less the states add); without offsets in the data
+  // them (only their mean) and the path bends between beacons. Measured (seeds 201-203): 0.174 /
+  // 0.176 / 0.172 m with the states, 0.348 / 0.388 / 0.383 m without; with an earlier draw
+  // of the offsets 0.179 / 0.177 / 0.173 against 0.259 / 0.295 / 0.190 (the shared offset takes
+  // the draws' mean: the less they differ, the less the states add). Without offsets in the data
   // the states cost ~0.01 m.
   double sum_with_m = 0.0, sum_without_m = 0.0;
   for (const uint64_t seed : {201, 202, 203}) {

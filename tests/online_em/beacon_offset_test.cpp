@@ -26,15 +26,13 @@ using online_em::OnlineEmConfig;
 using online_em::OnlineEmSlam;
 
 // Adds to every range to beacon b its offset: sign and magnitude (uniform in [1, 2] m) drawn
-// per beacon from `seed`.
+// per beacon from `seed` (roam-sim's --beacon-offset-min 1 --beacon-offset-max 2 draw).
 std::map<int, double> addBeaconOffsets(Dataset* data, uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> magnitude(1.0, 2.0);
-  std::map<int, double> offsets;
-  for (const Beacon& beacon : data->beacons) {
-    const double m = magnitude(rng);
-    offsets[beacon.id] = (rng() & 1u) ? m : -m;
-  }
+  sim::SimConfig offsets_config;
+  offsets_config.seed = seed;
+  offsets_config.beacon_offset_min_m = 1.0;
+  offsets_config.beacon_offset_max_m = 2.0;
+  const std::map<int, double> offsets = sim::beaconOffsets(offsets_config, data->beacons);
   for (Range& range : data->ranges) range.range_m += offsets.at(range.beacon_id);
   return offsets;
 }

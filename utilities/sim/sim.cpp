@@ -330,7 +330,10 @@ SimRun simulate(const SimConfig& c) {
       }
     }
   }
-  // Gaps last: every random draw above is made as without them.
+  // Per-beacon offsets, then gaps: every random draw above is made as without them.
+  const std::map<int, double> offsets_m = beaconOffsets(c, run.beacons);
+  if (!offsets_m.empty())
+    for (Range& r : run.ranges) r.range_m = std::max(r.range_m + offsets_m.at(r.beacon_id), 1e-3);
   if (!c.range_gaps.empty()) {
     auto in_gap = [&](const Range& r) {
       const double t_s = static_cast<double>(r.utime - run.start.utime) * 1e-6;
@@ -341,6 +344,18 @@ SimRun simulate(const SimConfig& c) {
     run.ranges.erase(std::remove_if(run.ranges.begin(), run.ranges.end(), in_gap), run.ranges.end());
   }
   return run;
+}
+
+std::map<int, double> beaconOffsets(const SimConfig& c, const Map& beacons) {
+  std::map<int, double> offsets_m;
+  if (!(c.beacon_offset_max_m > 0.0)) return offsets_m;
+  std::mt19937_64 rng(c.seed);
+  std::uniform_real_distribution<double> magnitude_m(c.beacon_offset_min_m, c.beacon_offset_max_m);
+  for (const Beacon& beacon : beacons) {
+    const double m = magnitude_m(rng);
+    offsets_m[beacon.id] = (rng() & 1u) ? m : -m;
+  }
+  return offsets_m;
 }
 
 }  // namespace sim

@@ -10,8 +10,11 @@
 // so a calibrating estimator should recover distance_scale = 1 / odo_distance_scale and
 // heading_rate_bias = odo_heading_bias_radps. Ranges are taken at pose
 // times (the end of an odometry step) to beacons in the world frame:
-//   range = scale * |beacon - robot| + offset + noise,
-// noise ~ N(0, range_sigma) (or the two-component mixture), occasionally replaced by outliers.
+//   range = scale * |beacon - robot| + offset + noise (+ o_b),
+// noise ~ N(0, range_sigma) (or the two-component mixture), occasionally replaced by outliers;
+// o_b is beacon b's own offset (a transponder's turn-around delay, an anchor's antenna delay),
+// |o_b| uniform in [beacon_offset_min_m, beacon_offset_max_m] with a random sign, drawn from its
+// own stream and added to every range to b last, so a run without offsets is otherwise the same.
 // A standing start (hold_s): the vehicle stands still for the first hold_s seconds (zero true
 // steps; the odometry still carries its heading noise and gyro bias, ranges are still taken),
 // then drives its path; num_steps counts both.
@@ -20,6 +23,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -95,6 +99,10 @@ struct SimConfig {
   double outlier_min_m = 5.0;
   double outlier_max_m = 30.0;
   std::vector<RangeGap> range_gaps;  // dropouts of every beacon (start >= 0, duration > 0)
+  // Per-beacon range offsets o_b: |o_b| ~ U(min, max), sign random (max 0: none). GOATS' acoustic
+  // beacons carry 1-2 m each.
+  double beacon_offset_min_m = 0.0;
+  double beacon_offset_max_m = 0.0;
 
   bool bearing = false;
   double bearing_sigma_rad = 0.0;
@@ -105,6 +113,10 @@ struct SimConfig {
 using SimRun = Dataset;
 
 SimRun simulate(const SimConfig& config);
+
+// The per-beacon range offsets simulate() adds (beacon id -> o_b, m; empty with max 0): drawn
+// from std::mt19937_64(config.seed), per beacon in order, magnitude then sign.
+std::map<int, double> beaconOffsets(const SimConfig& config, const Map& beacons);
 
 // Parses "START_S:DURATION_S" (e.g. "120:30"); throws std::invalid_argument naming the problem
 // (not two numbers, start < 0, duration <= 0).

@@ -91,6 +91,11 @@ int main(int argc, char** argv) {
       ("range-gap", po::value(&range_gaps)->composing(),
        "START_S:DURATION_S: no range from any beacon in [start, start + duration), seconds after "
        "the start pose (repeatable; the rest of the run is the same as without it)")
+      ("beacon-offset-min", po::value(&c.beacon_offset_min_m)->default_value(c.beacon_offset_min_m),
+       "each beacon's own range offset: magnitude at least this (m)")
+      ("beacon-offset-max", po::value(&c.beacon_offset_max_m)->default_value(c.beacon_offset_max_m),
+       "... and at most this (m; random sign per beacon, added to every range to it, as an acoustic "
+       "transponder's delay: GOATS' are 1-2 m; 0: none)")
       ("bearing", po::bool_switch(&c.bearing), "also measure the robot-relative bearing")
       ("bearing-sigma", po::value(&c.bearing_sigma_rad)->default_value(c.bearing_sigma_rad), "rad");
   // clang-format on
@@ -114,6 +119,8 @@ int main(int argc, char** argv) {
     require(c.range_sigma_m >= 0 && c.range_sigma1_m >= 0 && c.bearing_sigma_rad >= 0,
             "--range-sigma, --mixture-sigma, --bearing-sigma: expected >= 0");
     require(c.range_rate_hz > 0, "--range-rate: expected > 0");
+    require(c.beacon_offset_min_m >= 0 && c.beacon_offset_min_m <= c.beacon_offset_max_m,
+            "--beacon-offset-min: expected 0 <= --beacon-offset-min <= --beacon-offset-max");
     for (const std::string& gap : range_gaps) {
       try {
         c.range_gaps.push_back(roam::sim::parseRangeGap(gap));

@@ -1,0 +1,72 @@
+// roam-sim's per-beacon range offsets (--beacon-offset-min / --beacon-offset-max): every range to
+// beacon b is the same seed's range without offsets plus b's own o_b, |o_b| within the bounds,
+// and nothing else in the run changes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include "sim.hpp"
+#include "tool_test_util.hpp"
+
+namespace {
+
+roam::sim::SimConfig auvWorld(uint64_t seed) { return roam::sim::auvLikeWorld(seed, 300); }
+
+TEST(SimBeaconOffset, EachBeaconsRangesMoveByItsOwnOffsetAndNothingElseChanges) {
+  int positive = 0, negative = 0;
+  for (uint64_t seed = 1; seed <= 5; ++seed) {
+    roam::sim::SimConfig config = auvWorld(seed);
+    const roam::sim::SimRun plain = roam::sim::simulate(config);
+    config.beacon_offset_min_m = 1.0;
+    config.beacon_offset_max_m = 2.0;
+    const roam::sim::SimRun offset = roam::sim::simulate(config);
+    const std::map<int, double> o_m = roam::sim::beaconOffsets(config, offset.beacons);
+
+    ASSERT_EQ(o_m.size(), plain.beacons.size());
+    for (const auto& [id, o] : o_m) {
+      EXPECT_GE(std::abs(o), 1.0) << "beacon " << id;
+      EXPECT_LE(std::abs(o), 2.0) << "beacon " << id;
+      (o > 0 ? positive : negative) += 1;
+    }
+    ASSERT_EQ(offset.ranges.size(), plain.ranges.size());
+    for (size_t k = 0; k < plain.ranges.size(); ++k) {
+      const roam::Range& a = plain.ranges[k];
+      const roam::Range& b = offset.ranges[k];
+      EXPECT_EQ(b.utime, a.utime);
+      EXPECT_EQ(b.beacon_id, a.beacon_id);
+      EXPECT_EQ(b.range_m, std::max(a.range_m + o_m.at(a.beacon_id), 1e-3)) << "range " << k;
+    }
+    ASSERT_EQ(offset.odometry.size(), plain.odometry.size());
+    for (size_t k = 0; k < plain.odometry.size(); ++k) {
+      EXPECT_EQ(offset.odometry[k].forward_m, plain.odometry[k].forward_m);
+      EXPECT_EQ(offset.odometry[k].delta_heading_rad, plain.odometry[k].delta_heading_rad);
+    }
+    for (size_t n = 0; n < plain.beacons.size(); ++n) EXPECT_EQ(offset.beacons[n].x_m, plain.beacons[n].x_m);
+  }
+  // 20 independent signs: both occur (all one sign has probability 2^-19).
+  EXPECT_GT(positive, 0);
+  EXPECT_GT(negative, 0);
+}
+
+TEST(SimBeaconOffset, NoneByDefault) {
+  roam::sim::SimConfig config = auvWorld(3);
+  EXPECT_TRUE(roam::sim::beaconOffsets(config, roam::sim::simulate(config).beacons).empty());
+}
+
+TEST(SimBeaconOffset, CommandLine) {
+  roam_test::ScratchDir dir;
+  const std::string sim = roam_test::tool("roam-sim");
+  const roam_test::ToolResult help = roam_test::runTool(sim + " --help");
+  EXPECT_NE(help.out.find("--beacon-offset-max"), std::string::npos);
+  const roam_test::ToolResult bad =
+      roam_test::runTool(sim + " -o " + dir.file("x.lcmlog") + " --beacon-offset-min 2 --beacon-offset-max 1");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.out.find("--beacon-offset-min: expected 0 <= --beacon-offset-min <= --beacon-offset-max"), std::string::npos)
+      << bad.out;
+  const roam_test::ToolResult ok =
+      roam_test::runTool(sim + " -o " + dir.file("x.lcmlog") + " --steps 50 --beacon-offset-min 1 --beacon-offset-max 2");
+  EXPECT_EQ(ok.status, 0) << ok.out;
+}
+
+}  // namespace
