@@ -4,7 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <map>
+#include <sstream>
+
+#include "dataset_log.hpp"
 
 #include "sim.hpp"
 #include "tool_test_util.hpp"
@@ -67,6 +72,33 @@ TEST(SimBeaconOffset, CommandLine) {
   const roam_test::ToolResult ok =
       roam_test::runTool(sim + " -o " + dir.file("x.lcmlog") + " --steps 50 --beacon-offset-min 1 --beacon-offset-max 2");
   EXPECT_EQ(ok.status, 0) << ok.out;
+}
+
+std::string fileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST(SimWorlds, GoatsLikeWorldIsTheSeedSweepsAuvGoatsKind) {
+  // The tests' goatsLikeWorld and utilities/seed-sweep's auv-goats options make the same run.
+  roam_test::ScratchDir dir;
+  const roam_test::ToolResult list = roam_test::runTool(std::string(ROAM_SOURCE_DIR) + "/utilities/seed-sweep --list");
+  ASSERT_EQ(list.status, 0) << list.out;
+  std::istringstream lines(list.out);
+  std::string line, options;
+  while (std::getline(lines, line))
+    if (line.rfind("auv-goats:", 0) == 0 && std::getline(lines, options)) break;
+  const std::string prefix = "  roam-sim ", suffix = " --seed SEED";
+  ASSERT_EQ(options.rfind(prefix, 0), 0u) << options;
+  ASSERT_GT(options.size(), prefix.size() + suffix.size());
+  options = options.substr(prefix.size(), options.size() - prefix.size() - suffix.size());
+  const roam_test::ToolResult made =
+      roam_test::runTool(roam_test::tool("roam-sim") + " -o " + dir.file("cli.lcmlog") + " --seed 7 " + options);
+  ASSERT_EQ(made.status, 0) << made.out;
+  roam::writeDatasetLog(dir.file("world.lcmlog"), roam::sim::simulate(roam::sim::goatsLikeWorld(7, 210)));
+  const std::string cli = fileBytes(dir.file("cli.lcmlog")), world = fileBytes(dir.file("world.lcmlog"));
+  EXPECT_GT(cli.size(), 10000u);
+  EXPECT_TRUE(cli == world) << "roam-sim " << options << " differs from sim::goatsLikeWorld(7, 210)";
 }
 
 }  // namespace

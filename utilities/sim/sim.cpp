@@ -152,6 +152,34 @@ SimConfig auvLikeWorld(uint64_t seed, int num_steps) {
   return c;
 }
 
+SimConfig goatsLikeWorld(uint64_t seed, int num_steps) {
+  SimConfig c;
+  c.seed = seed;
+  c.num_steps = num_steps;
+  c.dt_s = 7.0;
+  c.speed_mps = 0.7;
+  c.path = PathKind::kLawnMower;
+  c.area_width_m = 250.0;
+  c.area_height_m = 150.0;
+  c.lane_spacing_m = 40.0;
+  c.num_beacons = 4;
+  c.beacon_margin_m = 250.0;
+  c.schedule = RangeSchedule::kEveryStepAllBeacons;
+  c.range_dropout = 0.3;
+  c.range_sigma_m = 2.0;
+  c.range_sigma_reported_m = 0.75;
+  c.outlier_fraction = 0.5;
+  c.outlier_min_m = -200.0;
+  c.outlier_max_m = 20.0;
+  c.beacon_offset_min_m = 1.0;
+  c.beacon_offset_max_m = 2.0;
+  c.odo_distance_sigma_rel = 0.2;
+  c.odo_lateral_sigma_rel = 0.2;
+  c.odo_heading_sigma_rad = 0.001;
+  c.odo_distance_scale = 0.97;
+  return c;
+}
+
 SimConfig gyroDriftFigure8World(uint64_t seed, int num_steps) {
   SimConfig c;
   c.seed = seed;

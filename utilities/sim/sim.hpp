@@ -131,6 +131,13 @@ PathKind parsePathKind(const std::string& name);
 // odometry 15 % noisy forward and sideways and 3 % short. Every suite's AUV test starts here.
 SimConfig auvLikeWorld(uint64_t seed, int num_steps);
 
+// GOATS 16's sensors as its README states them (utilities/seed-sweep's auv-goats kind, 210
+// steps): 7 s between poses at 0.7 m/s on a 250 x 150 m lawn mower, 4 beacons up to 250 m
+// outside, each ranged at ~70 % of poses, 2 m of noise stated as 0.75 m, half the ranges outliers
+// from -200 to +20 m, each beacon's own offset of 1-2 m, odometry heading nearly exact (0.001 rad
+// per step), translation 20 % noisy forward and sideways and 3 % short.
+SimConfig goatsLikeWorld(uint64_t seed, int num_steps);
+
 // The drifting-gyro world of logs/synthetic/drift-figure8 (there seed 106, 4000 steps): a
 // figure-8 of two 12 m circles at 1 m/s in 0.2 s steps, 6 beacons at 2 Hz round robin, 0.3 m
 // range noise, 2 % odometry, 0.003 rad heading noise per step and 0.01 rad/s (0.57 deg/s) of
