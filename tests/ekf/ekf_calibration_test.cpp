@@ -501,10 +501,10 @@ namespace ekf {
 namespace {
 
 // Adds to every range its beacon's own offset, |offset| uniform in [min_m, max_m], random sign
-// (roam-sim's --beacon-offset-min / --beacon-offset-max draw, from `seed`).
+// (the sim's draw, from the stream `seed`: `beacon_offset_seed`).
 void addPerBeaconOffsets(sim::SimRun* run, uint64_t seed, double min_m, double max_m) {
   sim::SimConfig offsets_config;
-  offsets_config.seed = seed;
+  offsets_config.beacon_offset_seed = seed;
   offsets_config.beacon_offset_min_m = min_m;
   offsets_config.beacon_offset_max_m = max_m;
   const std::map<int, double> offset_m = sim::beaconOffsets(offsets_config, run->beacons);

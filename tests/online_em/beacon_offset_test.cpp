@@ -26,10 +26,10 @@ using online_em::OnlineEmConfig;
 using online_em::OnlineEmSlam;
 
 // Adds to every range to beacon b its offset: sign and magnitude (uniform in [1, 2] m) drawn
-// per beacon from `seed` (roam-sim's --beacon-offset-min 1 --beacon-offset-max 2 draw).
+// per beacon from the stream `seed` (the sim's draw: `beacon_offset_seed`).
 std::map<int, double> addBeaconOffsets(Dataset* data, uint64_t seed) {
   sim::SimConfig offsets_config;
-  offsets_config.seed = seed;
+  offsets_config.beacon_offset_seed = seed;
   offsets_config.beacon_offset_min_m = 1.0;
   offsets_config.beacon_offset_max_m = 2.0;
   const std::map<int, double> offsets = sim::beaconOffsets(offsets_config, data->beacons);

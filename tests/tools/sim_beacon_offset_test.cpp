@@ -54,6 +54,18 @@ TEST(SimBeaconOffset, EachBeaconsRangesMoveByItsOwnOffsetAndNothingElseChanges) 
   EXPECT_GT(negative, 0);
 }
 
+TEST(SimBeaconOffset, OwnStreamApartFromTheRunsAndAnExplicitSeedReproduces) {
+  roam::sim::SimConfig config = auvWorld(4);
+  config.beacon_offset_min_m = 1.0;
+  config.beacon_offset_max_m = 2.0;
+  const roam::Map beacons = roam::sim::simulate(config).beacons;
+  const std::map<int, double> derived = roam::sim::beaconOffsets(config, beacons);
+  config.beacon_offset_seed = config.seed;  // the run's own seed: the stream the run draws from
+  const std::map<int, double> run_stream = roam::sim::beaconOffsets(config, beacons);
+  EXPECT_NE(derived, run_stream);
+  EXPECT_EQ(roam::sim::beaconOffsets(config, beacons), run_stream);
+}
+
 TEST(SimBeaconOffset, NoneByDefault) {
   roam::sim::SimConfig config = auvWorld(3);
   EXPECT_TRUE(roam::sim::beaconOffsets(config, roam::sim::simulate(config).beacons).empty());

@@ -103,6 +103,7 @@ struct SimConfig {
   // beacons carry 1-2 m each.
   double beacon_offset_min_m = 0.0;
   double beacon_offset_max_m = 0.0;
+  uint64_t beacon_offset_seed = 0;  // the offsets' stream (0: derived from seed, apart from the run's)
 
   bool bearing = false;
   double bearing_sigma_rad = 0.0;
@@ -115,7 +116,8 @@ using SimRun = Dataset;
 SimRun simulate(const SimConfig& config);
 
 // The per-beacon range offsets simulate() adds (beacon id -> o_b, m; empty with max 0): drawn
-// from std::mt19937_64(config.seed), per beacon in order, magnitude then sign.
+// from their own std::mt19937_64 (beacon_offset_seed, or one derived from seed apart from the
+// run's stream), per beacon in order, magnitude then sign.
 std::map<int, double> beaconOffsets(const SimConfig& config, const Map& beacons);
 
 // Parses "START_S:DURATION_S" (e.g. "120:30"); throws std::invalid_argument naming the problem
