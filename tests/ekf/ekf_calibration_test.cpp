@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
-#include <random>
 
 #include "ekf_config.hpp"
 #include "ekf_filter.hpp"
@@ -501,13 +500,9 @@ namespace ekf {
 namespace {
 
 // Adds to every range its beacon's own offset, |offset| uniform in [min_m, max_m], random sign
-// (the sim's draw, from the stream `seed`: `beacon_offset_seed`).
+// (the sim's draw, from the stream `seed`).
 void addPerBeaconOffsets(sim::SimRun* run, uint64_t seed, double min_m, double max_m) {
-  sim::SimConfig offsets_config;
-  offsets_config.beacon_offset_seed = seed;
-  offsets_config.beacon_offset_min_m = min_m;
-  offsets_config.beacon_offset_max_m = max_m;
-  const std::map<int, double> offset_m = sim::beaconOffsets(offsets_config, run->beacons);
+  const std::map<int, double> offset_m = sim::beaconOffsets(seed, min_m, max_m, run->beacons);
   for (Range& range : run->ranges) range.range_m += offset_m.at(range.beacon_id);
 }
 

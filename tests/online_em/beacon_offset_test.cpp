@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <vector>
 #include <map>
-#include <random>
 #include <string>
 #include <utility>
 
@@ -26,13 +25,9 @@ using online_em::OnlineEmConfig;
 using online_em::OnlineEmSlam;
 
 // Adds to every range to beacon b its offset: sign and magnitude (uniform in [1, 2] m) drawn
-// per beacon from the stream `seed` (the sim's draw: `beacon_offset_seed`).
+// per beacon from the stream `seed` (the sim's draw).
 std::map<int, double> addBeaconOffsets(Dataset* data, uint64_t seed) {
-  sim::SimConfig offsets_config;
-  offsets_config.beacon_offset_seed = seed;
-  offsets_config.beacon_offset_min_m = 1.0;
-  offsets_config.beacon_offset_max_m = 2.0;
-  const std::map<int, double> offsets = sim::beaconOffsets(offsets_config, data->beacons);
+  const std::map<int, double> offsets = sim::beaconOffsets(seed, 1.0, 2.0, data->beacons);
   for (Range& range : data->ranges) range.range_m += offsets.at(range.beacon_id);
   return offsets;
 }

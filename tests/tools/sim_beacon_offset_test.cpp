@@ -1,16 +1,17 @@
 // roam-sim's per-beacon range offsets (--beacon-offset-min / --beacon-offset-max): every range to
 // beacon b is the same seed's range without offsets plus b's own o_b, |o_b| within the bounds,
-// and nothing else in the run changes.
+// and nothing else in the run changes. And sim::goatsLikeWorld is the seed sweep's auv-goats kind.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
 #include <map>
 #include <sstream>
+#include <string>
 
 #include "dataset_log.hpp"
-
 #include "sim.hpp"
 #include "tool_test_util.hpp"
 

@@ -375,12 +375,17 @@ SimRun simulate(const SimConfig& c) {
 }
 
 std::map<int, double> beaconOffsets(const SimConfig& c, const Map& beacons) {
-  std::map<int, double> offsets_m;
-  if (!(c.beacon_offset_max_m > 0.0)) return offsets_m;
+  if (!(c.beacon_offset_max_m > 0.0)) return {};
   // Its own stream (as the gyro bias walk's): seeded apart from the run's, so the offsets do not
   // repeat the run's first noise draws.
-  std::mt19937_64 rng(c.beacon_offset_seed != 0 ? c.beacon_offset_seed : c.seed ^ 0xbf58476d1ce4e5b9ULL);
-  std::uniform_real_distribution<double> magnitude_m(c.beacon_offset_min_m, c.beacon_offset_max_m);
+  return beaconOffsets(c.beacon_offset_seed != 0 ? c.beacon_offset_seed : c.seed ^ 0xbf58476d1ce4e5b9ULL,
+                       c.beacon_offset_min_m, c.beacon_offset_max_m, beacons);
+}
+
+std::map<int, double> beaconOffsets(uint64_t stream_seed, double min_m, double max_m, const Map& beacons) {
+  std::map<int, double> offsets_m;
+  std::mt19937_64 rng(stream_seed);
+  std::uniform_real_distribution<double> magnitude_m(min_m, max_m);
   for (const Beacon& beacon : beacons) {
     const double m = magnitude_m(rng);
     offsets_m[beacon.id] = (rng() & 1u) ? m : -m;

@@ -119,6 +119,8 @@ SimRun simulate(const SimConfig& config);
 // from their own std::mt19937_64 (beacon_offset_seed, or one derived from seed apart from the
 // run's stream), per beacon in order, magnitude then sign.
 std::map<int, double> beaconOffsets(const SimConfig& config, const Map& beacons);
+// The same draw from the stream seeded with stream_seed: |o_b| ~ U(min_m, max_m), random sign.
+std::map<int, double> beaconOffsets(uint64_t stream_seed, double min_m, double max_m, const Map& beacons);
 
 // Parses "START_S:DURATION_S" (e.g. "120:30"); throws std::invalid_argument naming the problem
 // (not two numbers, start < 0, duration <= 0).
