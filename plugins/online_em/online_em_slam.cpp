@@ -229,8 +229,14 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
   std::vector<StepObservation> observations;
   std::bernoulli_distribution wide(1.0 - config_.mixture_weight0);
   for (const Range& r : ranges) {
-    if (!replaying_) acceptRange();
     const int i = landmarkIndex(r.beacon_id);
+    if (!replaying_) {
+      if (landmarks_[i].initialised) {
+        acceptRange();
+      } else {
+        ++pending_live_ranges_[r.beacon_id];
+      }
+    }
     StepObservation obs;
     obs.landmark = i;
     obs.y.range_m = r.range_m;
@@ -468,6 +474,7 @@ void OnlineEmSlam::tryInitialise(int i) {
     landmark.pending_poses = {landmark.pending_poses.back()};
     landmark.pending_observations = {last};
   } else {
+    landmark.failed_check = InitCheck::kTooFew;
     if (static_cast<int>(landmark.pending_poses.size()) < config_.init_min_ranges) return;
     // Inliers: within 3 sigma of the range noise (the range's own sigma if given), at least 1 m
     // for the dead-reckoned positions the ranges were taken from.
@@ -485,15 +492,19 @@ void OnlineEmSlam::tryInitialise(int i) {
     // Below init_min_spread_m the position is taken once its mirror image is refuted
     // (mirrorRejected; the consensus only: gate > 0).
     const double spread_m = estimation::positionSpread(points);
+    landmark.failed_check = InitCheck::kNarrowAngle;
     if (spread_m < fraction_spread_m) return;
     const double gate = config_.init_outlier_gate_sigmas;
+    landmark.failed_check = InitCheck::kShortSpread;
     if (spread_m < config_.init_min_spread_m && !(config_.init_mirror_test && gate > 0.0)) return;
     std::array<double, 2> beacon_m{0.0, 0.0};
     const double band_m = std::max(1.0, gate * sr);
     const bool solved = gate > 0.0 ? estimation::multilaterateTriples(points, ranges, band_m, &beacon_m)
                                    : estimation::multilaterateLinear(points, ranges, &beacon_m);
+    landmark.failed_check = InitCheck::kNoConsensus;
     if (!solved) return;
     if (spread_m < config_.init_min_spread_m) {
+      landmark.failed_check = InitCheck::kMirror;
       // The ranges were taken from dead-reckoned mean poses: their residuals carry the cloud's
       // position spread as well as the range noise (the largest variance of the cloud now).
       const int n = config_.num_particles;
@@ -530,6 +541,10 @@ void OnlineEmSlam::tryInitialise(int i) {
   landmark.count = static_cast<int64_t>(positions.size());
   landmark.pending_poses.clear();
   landmark.pending_observations.clear();
+  if (auto counted = pending_live_ranges_.find(landmark.id); counted != pending_live_ranges_.end()) {
+    for (int64_t k = 0; k < counted->second; ++k) acceptRange();
+    pending_live_ranges_.erase(counted);
+  }
   int initialised = 0;
   for (const Landmark& l : landmarks_) initialised += l.initialised ? 1 : 0;
   if (initialised >= 2 && initialised == static_cast<int>(landmarks_.size())) {
@@ -817,8 +832,35 @@ void OnlineEmSlam::publish(int64_t utime) {
   if (!replaying_) emitPose(pose);
 }
 
+std::string OnlineEmSlam::neverInitialisedReason(InitCheck check) {
+  switch (check) {
+    case InitCheck::kTooFew:
+      return "landmark never initialised: too few ranges (init_min_ranges)";
+    case InitCheck::kNarrowAngle:
+      return "landmark never initialised: its ranging positions span too narrow an angle seen from it "
+             "(init_min_spread_fraction)";
+    case InitCheck::kShortSpread:
+      return "landmark never initialised: its ranging positions lie too near a line (init_min_spread_m)";
+    case InitCheck::kMirror:
+      return "landmark never initialised: its position and its mirror image fit alike (init_mirror_test)";
+    default:
+      return "landmark never initialised: no position agrees with most of its ranges (init_outlier_gate_sigmas)";
+  }
+}
+
 void OnlineEmSlam::finish() {
   setDiagnostic("ranges_after_last_odometry", static_cast<double>(queued_ranges_.size()));
+  // A landmark that never entered the map used none of its ranges: they are rejected under the
+  // check its last multilateration failed, so the run's warning names the key to look at.
+  int never_initialised = 0;
+  for (const auto& [id, count] : pending_live_ranges_) {
+    const auto found = index_of_id_.find(id);
+    const InitCheck check = found == index_of_id_.end() ? InitCheck::kTooFew : landmarks_[found->second].failed_check;
+    for (int64_t k = 0; k < count; ++k) rejectRange(neverInitialisedReason(check));
+    ++never_initialised;
+  }
+  pending_live_ranges_.clear();
+  setDiagnostic("landmarks_never_initialised", static_cast<double>(never_initialised));
   setState(EstimatorState::kFinished);
 }
 

@@ -123,6 +123,7 @@
 
 #include <map>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -174,6 +175,9 @@ class OnlineEmSlam : public Estimator {
   const Eigen::ArrayXd& weights() const { return weights_; }
 
  private:
+  // The multilateration checks a start-pose landmark must pass (tryInitialise), each with its key.
+  enum class InitCheck { kTooFew, kNarrowAngle, kShortSpread, kNoConsensus, kMirror };
+  static std::string neverInitialisedReason(InitCheck check);
   struct Landmark {
     int id = 0;
     bool initialised = false;
@@ -192,6 +196,9 @@ class OnlineEmSlam : public Estimator {
     // Ranges waiting for multilateration: mean robot pose and the observation.
     std::vector<Eigen::Vector3d> pending_poses;
     std::vector<RangeObservation> pending_observations;
+    // The check its last multilateration attempt failed (the reason its ranges are rejected if
+    // it never initialises).
+    InitCheck failed_check = InitCheck::kTooFew;
   };
   // An observation of an initialised landmark at this step, with its interpolation fraction
   // and the sampled component of each particle.
@@ -246,6 +253,9 @@ class OnlineEmSlam : public Estimator {
 
   std::vector<Landmark> landmarks_;
   std::map<int, int> index_of_id_;
+  // Live ranges of each beacon id not yet in the map: accepted when its landmark initialises,
+  // rejected at the end of the run if it never does (the reason names the check it failed).
+  std::map<int, int64_t> pending_live_ranges_;
   double range_scale_ = 1.0, range_offset_m_ = 0.0;
   estimation::OdometryCalibration calibration_;
   Eigen::MatrixXd calibration_statistics_;  // N x 2: c_t^k (J^T W z, smoothed and averaged)

@@ -106,6 +106,44 @@ TEST(OnlineEmNoiseFree, StartPoseMultilaterationRecoversTheMap) {
   EXPECT_LT(mapError(slam.currentMap(), data.beacons), kExactMap_m);
 }
 
+TEST(OnlineEmNoiseFree, ALandmarkNeverInitialisedHasItsRangesRejectedWithTheKey) {
+  // A fifth beacon 2 km away: the 30 x 20 m lawn mower spans ~0.5 degrees seen from it, under
+  // init_min_spread_fraction (0.05 of the median range: 100 m of spread), so it never enters the
+  // map. Its ranges were never used: each is rejected under that check, naming the key (roam-run's
+  // end-of-run warning then says "look at key init_min_spread_fraction"), and every other range
+  // is accepted. The four near beacons' map is exact as without it.
+  sim::SimConfig world = plazaLike(600, 3);
+  world.beacons.push_back({4, 2000.0, 10.0, {}});
+  const Dataset data = sim::simulate(world);
+  OnlineEmSlam slam(noiseFreeConfig("start_pose"));
+  feed(data, slam);
+  int64_t far = 0, after_last = 0;
+  for (const Range& r : data.ranges) {
+    if (r.utime >= data.odometry.back().utime) {
+      ++after_last;
+    } else if (r.beacon_id == 4) {
+      ++far;
+    }
+  }
+  ASSERT_GT(far, 40);  // a fifth of the 2 Hz round robin over 120 s
+  EXPECT_EQ(slam.rangesRejected(), far);
+  EXPECT_EQ(slam.rangesAccepted(), static_cast<int64_t>(data.ranges.size()) - far - after_last);
+  const std::string reason =
+      "range: landmark never initialised: its ranging positions span too narrow an angle seen from it "
+      "(init_min_spread_fraction)";
+  ASSERT_EQ(slam.rejections().count(reason), 1u);
+  EXPECT_EQ(slam.rejections().at(reason), far);
+  EXPECT_EQ(slam.diagnostics().at("landmarks_never_initialised"), 1.0);
+  const Map map = slam.currentMap();
+  ASSERT_EQ(map.size(), 4u);
+  EXPECT_LT(mapError(map, Map(data.beacons.begin(), data.beacons.begin() + 4)), kExactMap_m);
+  // Without the far beacon nothing is rejected.
+  OnlineEmSlam near(noiseFreeConfig("start_pose"));
+  feed(sim::simulate(plazaLike(600, 3)), near);
+  EXPECT_EQ(near.rangesRejected(), 0);
+  EXPECT_EQ(near.diagnostics().at("landmarks_never_initialised"), 0.0);
+}
+
 TEST(OnlineEmNoiseFree, RangesBetweenOdometryStepsUseTheInterpolatedPose) {
   // A 1 m/s path (0.2 m steps) with a quarter turn; ranges stamped mid-step are computed from
   // the true position interpolated at their time. Scored at the step's end pose instead, they
