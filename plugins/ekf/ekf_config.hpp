@@ -82,6 +82,12 @@ struct EkfConfig {
   // Starvation: after this many ranges to known beacons gated in a row, the filter is taken as
   // lost and its position variance is widened by the smallest of their squared innovations.
   int recover_after_gated = 8;
+  // ... and the widening is put on trial: the filter runs on without it while the next this many
+  // ranges to known beacons are scored, then the steps since are re-run with it, and whichever
+  // run explains those ranges better (outlier-mixture likelihood) is kept. With half the ranges
+  // outliers a run of 8 gated ones comes by chance about twice in 1000 ranges; a filter that is
+  // not lost then widens onto the next outlier (0: the widening is applied at once).
+  int recover_trial_ranges = 32;
   // Each recovery also multiplies the odometry covariance by 4 (up to motion_noise_max_scale);
   // each applied range multiplies it by motion_noise_decay (down to 1).
   double motion_noise_max_scale = 400.0;

@@ -157,7 +157,8 @@ double EkfFilter::predictBearing(int beacon_id, Eigen::RowVectorXd* jacobian) co
 }
 
 EkfFilter::Update EkfFilter::updateRange(int beacon_id, double range_m, double sigma_m,
-                                         double gate_chi2, double* nis, double huber_k) {
+                                         double gate_chi2, double* nis, double huber_k,
+                                         double* innovation_m, double* innovation_var_m2) {
   const int m = index_.at(beacon_id);
   if ((x_.segment<2>(m) - x_.head<2>()).norm() < 1e-9) return Update::kDegenerate;
   Eigen::RowVectorXd H;
@@ -166,6 +167,8 @@ EkfFilter::Update EkfFilter::updateRange(int beacon_id, double range_m, double s
   innovation(0) = range_m - predicted_m;
   Eigen::MatrixXd R(1, 1);
   R(0, 0) = sigma_m * sigma_m;
+  if (innovation_m) *innovation_m = innovation(0);
+  if (innovation_var_m2) *innovation_var_m2 = H.dot(P_ * H.transpose()) + R(0, 0);
   if (huber_k > 0.0) {
     // Huber: beyond k sigma of the innovation's own spread S, the range counts with weight
     // k / |z| (z = innovation / sqrt(S)), i.e. S -> S |z| / k: its pull grows linearly, not

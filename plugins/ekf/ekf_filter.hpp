@@ -84,8 +84,11 @@ class EkfFilter {
   // Range (or range-bearing) update; nis receives the normalised innovation squared.
   // A measurement whose nis exceeds gate_chi2 is not applied (kGated).
   // huber_k > 0: ranges beyond huber_k sigma of the innovation are down-weighted (Huber).
+  // innovation_m and innovation_var_m2, where given, receive the innovation and its predicted
+  // variance H P H' + sigma^2 before the update (gated or not).
   Update updateRange(int beacon_id, double range_m, double sigma_m, double gate_chi2,
-                     double* nis, double huber_k = 0.0);
+                     double* nis, double huber_k = 0.0, double* innovation_m = nullptr,
+                     double* innovation_var_m2 = nullptr);
   Update updateRangeBearing(int beacon_id, double range_m, double sigma_m, double bearing_rad,
                             double sigma_bearing_rad, double gate_chi2, double* nis);
 

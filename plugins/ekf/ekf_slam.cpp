@@ -148,6 +148,7 @@ void EkfSlam::addOdometry(const Odometry& odometry) {
 void EkfSlam::addRange(const Range& range) {
   if (!(range.range_m > 0.0)) return rejectRange("range not positive");
   checkBiasObservable(range.utime);
+  max_range_m_ = std::max(max_range_m_, range.range_m);
   waiting_.push_back(range);  // applied within the odometry step that contains its time
 }
 
@@ -242,9 +243,11 @@ void EkfSlam::advance(Step step, bool live) {
   step.before = filter_;
   step.before_utime = state_utime_;
   step.path_size = path_.size();
+  step.before_adaptation = adaptation();
   runStep(step, live);
   if (live) acceptOdometry();
   history_.push_back(std::move(step));
+  if (live && recoveryTrialDue()) decideRecoveryTrial();
   initialiseReadyBeacons();
   if (!window_tried_ && pending_.empty() && !filter_.beacons().empty()) solveEarlyWindow();
   if (live) rerunWithCalibration();
@@ -332,26 +335,30 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
   const double sigma_m = std::max(range.sigma_m, config_.range_sigma_m) * std::sqrt(range_noise_scale_);
   if (filter_.hasBeacon(range.beacon_id)) {
     if (excluded_ranges_.count({range.beacon_id, range.utime})) return;  // an outlier of its initialisation
-    double nis = 0.0;
+    double nis = 0.0, innovation_m = 0.0, innovation_var_m2 = 0.0;
+    const bool recording = trial_.recording;  // before noteGated can start a trial with this range
     const EkfFilter::Update result =
         range.has_bearing
             ? filter_.updateRangeBearing(range.beacon_id, range.range_m, sigma_m, range.bearing_rad,
                                          config_.bearing_sigma_rad, gate_range_bearing_chi2_, &nis)
-            : filter_.updateRange(range.beacon_id, range.range_m, sigma_m, gate_range_chi2_, &nis, config_.range_huber_k);
+            : filter_.updateRange(range.beacon_id, range.range_m, sigma_m, gate_range_chi2_, &nis, config_.range_huber_k,
+                                  &innovation_m, &innovation_var_m2);
+    if (recording && !range.has_bearing && result != EkfFilter::Update::kDegenerate) scoreRange(innovation_m, innovation_var_m2);
+    if (live) {
+      ++known_ranges_live_;
+      if (result == EkfFilter::Update::kGated) ++known_ranges_gated_live_;
+    }
     if (result == EkfFilter::Update::kApplied) {
       map_dirty_ = true;
       gated_in_row_ = 0;
       motion_noise_scale_ = std::max(1.0, motion_noise_scale_ * config_.motion_noise_decay);
       adaptRangeNoise(nis);
-      if (live) acceptRange();
+      countRange(Verdict::kApplied, live, recording);
     } else if (result == EkfFilter::Update::kGated) {
-      noteGated(std::abs(range.range_m - filter_.predictRange(range.beacon_id, nullptr)));
-      if (live) {
-        ++gated_;
-        rejectRange("gated: Mahalanobis distance beyond gate_probability");
-      }
-    } else if (live) {
-      rejectRange("degenerate: beacon at the robot's position");
+      noteGated(std::abs(range.range_m - filter_.predictRange(range.beacon_id, nullptr)), step_index, live);
+      countRange(Verdict::kGated, live, recording);
+    } else {
+      countRange(Verdict::kDegenerate, live, recording);
     }
     return;
   }
@@ -401,21 +408,6 @@ void EkfSlam::adaptRangeNoise(double nis) {
   if (nis_average_ < 1.0) range_noise_scale_ = std::max(1.0, range_noise_scale_ / 1.1);
 }
 
-void EkfSlam::noteGated(double innovation_m) {
-  // Starvation: a filter that gates every range is lost, and its gate would never re-open.
-  // After recover_after_gated in a row, widen the position variance by the smallest squared
-  // innovation among them, so the closest of those ranges would pass (NIS < 1) next time.
-  if (config_.recover_after_gated == 0) return;
-  min_gated_innovation_m_ = gated_in_row_ == 0 ? innovation_m : std::min(min_gated_innovation_m_, innovation_m);
-  if (++gated_in_row_ < config_.recover_after_gated) return;
-  filter_.inflatePose(min_gated_innovation_m_ * min_gated_innovation_m_, 0.0);
-  // The odometry is worse than configured: scale its noise up (decays by motion_noise_decay per
-  // applied range back towards the configured noise).
-  motion_noise_scale_ = std::min(config_.motion_noise_max_scale, 4.0 * motion_noise_scale_);
-  gated_in_row_ = 0;
-  ++recoveries_;
-}
-
 void EkfSlam::rollbackAndInsert(int id, const MultilaterationResult& solve, std::vector<Sighting> used) {
   const int64_t first_step = pending_.at(id).front().step;
   const int64_t offset = first_step - history_.front().index;
@@ -454,6 +446,7 @@ void EkfSlam::rollbackAndInsert(int id, const MultilaterationResult& solve, std:
 }
 
 void EkfSlam::replayFrom(int64_t offset, int64_t first_step) {
+  if (!trial_rerun_) abandonRecoveryTrial();
   // Sightings from the re-run steps are collected again with the re-run poses.
   for (auto it = pending_.begin(); it != pending_.end();) {
     auto& buffer = it->second;
@@ -470,6 +463,7 @@ void EkfSlam::replayFrom(int64_t offset, int64_t first_step) {
     it->before = filter_;
     it->before_utime = state_utime_;
     it->path_size = path_.size();
+    it->before_adaptation = adaptation();
     runStep(*it, false);
   }
 }
@@ -529,6 +523,7 @@ void EkfSlam::reinitialiseFromStart() {
   // the beacons enter in the frame the calibration gives; the rotation left is of either sign
   // and of the size the batch solution's (spectral_batch) is: the start heading's and the early
   // odometry's.
+  abandonRecoveryTrial();
   std::deque<Step> old = std::move(history_);
   history_.clear();
   filter_ = old.front().before;
@@ -568,13 +563,14 @@ void EkfSlam::prune() {
                  buffer.end());
     it = buffer.empty() ? pending_.erase(it) : std::next(it);
   }
-  if (pending_.empty()) {
+  if (pending_.empty() && !trial_.active) {
     history_.clear();
     if (!calib_rerun_pending_) excluded_ranges_.clear();  // no re-run can reach them
     return;
   }
   int64_t earliest = next_step_;
   for (const auto& [id, buffer] : pending_) earliest = std::min(earliest, buffer.front().step);
+  if (trial_.active) earliest = std::min(earliest, trial_.step);  // the trial's re-run starts there
   while (!history_.empty() && history_.front().index < earliest) history_.pop_front();
 }
 
@@ -655,6 +651,7 @@ void EkfSlam::publishDiagnostics() {
   const int64_t ranges_seen = rangesAccepted() + rangesRejected();
   setDiagnostic("ranges_gated_fraction", ranges_seen > 0 ? static_cast<double>(gated_) / static_cast<double>(ranges_seen) : 0.0);
   setDiagnostic("starvation_recoveries", static_cast<double>(recoveries_));
+  setDiagnostic("starvation_recoveries_declined", static_cast<double>(recoveries_declined_));
   setDiagnostic("motion_noise_scale", motion_noise_scale_);
   setDiagnostic("range_noise_scale", range_noise_scale_);
   if (filter_.withCalibration()) {
@@ -669,6 +666,10 @@ void EkfSlam::publishDiagnostics() {
 }
 
 void EkfSlam::finish() {
+  // A widening still on trial is decided on the ranges scored so far; after that a starvation
+  // run widens at once (the ranges below are in no step a re-run could repeat).
+  if (trial_.active) decideRecoveryTrial();
+  finishing_ = true;
   // Ranges stamped at the last step's time belong to the current pose; later ones have no pose.
   if (config_.smooth_trajectory) filter_.record(&trailing_);
   for (const Range& range : waiting_) {

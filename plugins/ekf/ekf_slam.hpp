@@ -96,6 +96,29 @@ class EkfSlam : public Estimator {
     Eigen::Vector2d world_m;
     Eigen::Matrix2d cov_m2;
   };
+  // The noise the filter has adapted and its count towards a starvation recovery: with the
+  // filter, what a re-run from a step starts from.
+  struct Adaptation {
+    int gated_in_row = 0;
+    double min_gated_innovation_m = 0.0;
+    double motion_noise_scale = 1.0;
+    double range_noise_scale = 1.0;
+    double nis_average = 1.0;
+  };
+  // What became of a range to a beacon in the state.
+  enum class Verdict { kApplied, kGated, kDegenerate };
+  // A starvation widening on trial (ekf_recovery.cpp): the filter runs on without it while the
+  // ranges since the trigger are scored, then the steps since are re-run with it.
+  struct RecoveryTrial {
+    bool active = false;
+    bool recording = false;   // scoring: from the trigger (the run without) or the widening (the re-run)
+    int64_t step = -1;        // the step whose range completed the run of gated ranges
+    int64_t step_utime = 0;   // that step's start
+    double outlier_weight = 0.5;  // the scoring mixture, fixed at the trigger: outlier weight,
+    double span_m = 1.0;          // and the outliers' uniform span (the longest range so far)
+    double log_likelihood = 0.0;
+    std::vector<Verdict> verdicts;  // of the scored ranges: counted once the trial is decided
+  };
   // One odometry step with the ranges applied within it, and the filter before it.
   struct Step {
     int64_t index = 0;
@@ -106,6 +129,7 @@ class EkfSlam : public Estimator {
     int64_t before_utime = 0;
     size_t path_size = 0;
     bool standstill = false;  // a confirmed standstill (confirmStandstill): zero-rate update
+    Adaptation before_adaptation;
   };
 
   void start(const Pose& pose);
@@ -139,7 +163,18 @@ class EkfSlam : public Estimator {
   estimation::MotionNoise motionNoise(const Odometry& odometry) const;
   Eigen::Matrix3d scaledMotionNoise(const Eigen::Matrix3d& Q) const;
   EkfFilter::CalibrationPrior calibrationPrior() const;
-  void noteGated(double innovation_m);
+  // The starvation recovery (ekf_recovery.cpp).
+  void noteGated(double innovation_m, int64_t step_index, bool live);
+  void widenStarved();
+  void startRecoveryTrial(int64_t step_index);
+  void scoreRange(double innovation_m, double innovation_var_m2);
+  void countRange(Verdict verdict, bool live, bool recording);
+  void commitVerdict(Verdict verdict);
+  bool recoveryTrialDue() const;
+  void decideRecoveryTrial();
+  void abandonRecoveryTrial();  // a re-run rewrote the trial's steps: the running filter's verdicts stand
+  Adaptation adaptation() const;
+  void setAdaptation(const Adaptation& adaptation);
   void checkBiasObservable(int64_t range_utime);
   bool biasEstimated(int64_t step_index) const;  // b is a live state in this step
   void adaptRangeNoise(double nis);
@@ -194,6 +229,13 @@ class EkfSlam : public Estimator {
   int gated_in_row_ = 0;              // ranges to known beacons gated since the last applied one
   double min_gated_innovation_m_ = 0.0;
   int64_t recoveries_ = 0;
+  int64_t recoveries_declined_ = 0;   // widenings whose trial the run without them won
+  RecoveryTrial trial_;
+  bool trial_rerun_ = false;          // re-running the trial's steps with the widening
+  bool finishing_ = false;            // finish(): a starvation run widens at once
+  int64_t known_ranges_live_ = 0;     // live ranges to beacons in the state,
+  int64_t known_ranges_gated_live_ = 0;  // and of them gated (the trial's outlier weight)
+  double max_range_m_ = 0.0;          // the longest range so far (the trial's outlier span)
   double motion_noise_scale_ = 1.0;
   double range_noise_scale_ = 1.0;  // multiplies the range variance (adaptRangeNoise)
   double nis_average_ = 1.0;        // running average of applied ranges' NIS  // multiplies the odometry covariance (starvation raises it)

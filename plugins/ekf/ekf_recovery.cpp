@@ -1,0 +1,195 @@
+// The EKF's starvation recovery, and its trial.
+//
+// A filter that gates every range is lost, and its gate never re-opens: after
+// recover_after_gated ranges to known beacons gated in a row, the position variance is widened
+// by the smallest of their squared innovations (so the closest of them would pass next time) and
+// the odometry's translation noise is scaled up (widenStarved). But with a fraction w of the
+// ranges outliers, a run of n gated ones comes by chance about R (1 - w) w^n times in R ranges
+// (twice in 1000 at w = 1/2, n = 8), and a filter that was not lost then widens onto the next
+// outlier: a GOATS-like run (auv-goats seed 313) moved 44 m off that way and stayed 37-56 m off
+// for 150 s.
+//
+// So the widening is put on trial (recover_trial_ranges): the filter runs on without it (A)
+// while the next ranges to known beacons are scored, then the steps since the trigger's are
+// re-run from their snapshot with it (B), scoring the same ranges, and the run that explains them
+// better is kept. The score is each range's log-likelihood under an outlier mixture,
+//   log[(1 - w) N(r - r_pred; 0, S) + w / span],
+// with S the range's predicted innovation variance, w the gated fraction of the live ranges so
+// far and span the longest range so far (both fixed at the trigger): a Bayes factor between
+// "lost, and the widened filter has found its way back" and "not lost". A lost A gates every
+// range (each scores the floor w / span) while B's inliers score the Gaussian; an A that was not
+// lost scores its inliers at its own small S, while a B that widened onto an outlier scores them
+// at the floor. The live counts (accepted, gated) of the scored ranges wait for the verdict and
+// follow the run that is kept; POSE messages already sent are not revised, TRAJECTORY is.
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+
+#include "ekf_slam.hpp"
+
+namespace roam {
+namespace ekf {
+
+EkfSlam::Adaptation EkfSlam::adaptation() const {
+  Adaptation a;
+  a.gated_in_row = gated_in_row_;
+  a.min_gated_innovation_m = min_gated_innovation_m_;
+  a.motion_noise_scale = motion_noise_scale_;
+  a.range_noise_scale = range_noise_scale_;
+  a.nis_average = nis_average_;
+  return a;
+}
+
+void EkfSlam::setAdaptation(const Adaptation& a) {
+  gated_in_row_ = a.gated_in_row;
+  min_gated_innovation_m_ = a.min_gated_innovation_m;
+  motion_noise_scale_ = a.motion_noise_scale;
+  range_noise_scale_ = a.range_noise_scale;
+  nis_average_ = a.nis_average;
+}
+
+void EkfSlam::noteGated(double innovation_m, int64_t step_index, bool live) {
+  if (config_.recover_after_gated == 0) return;
+  min_gated_innovation_m_ = gated_in_row_ == 0 ? innovation_m : std::min(min_gated_innovation_m_, innovation_m);
+  if (++gated_in_row_ < config_.recover_after_gated) return;
+  if (live && !finishing_ && config_.recover_trial_ranges > 0) {
+    // Live: on trial. While one is open, further runs leave the running filter as it is.
+    gated_in_row_ = 0;
+    if (!trial_.active) startRecoveryTrial(step_index);
+    return;
+  }
+  widenStarved();
+  if (trial_rerun_) trial_.recording = true;  // the re-run scores from its first widening on
+}
+
+void EkfSlam::widenStarved() {
+  filter_.inflatePose(min_gated_innovation_m_ * min_gated_innovation_m_, 0.0);
+  // The odometry is worse than configured: scale its noise up (decays by motion_noise_decay per
+  // applied range back towards the configured noise).
+  motion_noise_scale_ = std::min(config_.motion_noise_max_scale, 4.0 * motion_noise_scale_);
+  gated_in_row_ = 0;
+  ++recoveries_;
+}
+
+void EkfSlam::startRecoveryTrial(int64_t step_index) {
+  trial_ = RecoveryTrial{};
+  trial_.active = true;
+  trial_.recording = true;
+  trial_.step = step_index;
+  trial_.step_utime = state_utime_;
+  // The gated fraction so far with one pseudo-count each way, kept off 0 and 1.
+  const double gated = static_cast<double>(known_ranges_gated_live_ + 1) / static_cast<double>(known_ranges_live_ + 2);
+  trial_.outlier_weight = std::clamp(gated, 0.05, 0.95);
+  trial_.span_m = std::max(max_range_m_, 1.0);
+}
+
+void EkfSlam::scoreRange(double innovation_m, double innovation_var_m2) {
+  constexpr double kTwoPi = 6.283185307179586;
+  const double var = std::max(innovation_var_m2, 1e-12);
+  const double inlier = std::exp(-0.5 * innovation_m * innovation_m / var) / std::sqrt(kTwoPi * var);
+  trial_.log_likelihood += std::log((1.0 - trial_.outlier_weight) * inlier + trial_.outlier_weight / trial_.span_m);
+}
+
+void EkfSlam::countRange(Verdict verdict, bool live, bool recording) {
+  if (recording && (live || trial_rerun_)) {
+    trial_.verdicts.push_back(verdict);
+    return;
+  }
+  if (live) commitVerdict(verdict);
+}
+
+void EkfSlam::commitVerdict(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::kApplied:
+      acceptRange();
+      break;
+    case Verdict::kGated:
+      ++gated_;
+      rejectRange("gated: Mahalanobis distance beyond gate_probability");
+      break;
+    case Verdict::kDegenerate:
+      rejectRange("degenerate: beacon at the robot's position");
+      break;
+  }
+}
+
+bool EkfSlam::recoveryTrialDue() const {
+  if (!trial_.active) return false;
+  if (static_cast<int>(trial_.verdicts.size()) >= config_.recover_trial_ranges) return true;
+  // Ranges that stop coming do not hold the history for ever: decided on what came.
+  return state_utime_ - trial_.step_utime > static_cast<int64_t>(config_.init_window_s * 1e6);
+}
+
+void EkfSlam::abandonRecoveryTrial() {
+  if (!trial_.active) return;
+  for (Verdict verdict : trial_.verdicts) commitVerdict(verdict);
+  trial_ = RecoveryTrial{};
+}
+
+void EkfSlam::decideRecoveryTrial() {
+  if (history_.empty() || trial_.step < history_.front().index ||
+      trial_.step - history_.front().index >= static_cast<int64_t>(history_.size()))
+    throw std::logic_error("ekf: the history does not hold step " + std::to_string(trial_.step) +
+                           " of the starvation recovery's trial");
+  const int64_t offset = trial_.step - history_.front().index;
+  const auto entry = history_.begin() + offset;
+  const size_t path_size = entry->path_size;
+  // The run without the widening (A), set aside while the re-run with it (B) is made.
+  const EkfFilter filter_a = filter_;
+  const int64_t state_utime_a = state_utime_;
+  const Path path_a(path_.begin() + static_cast<std::ptrdiff_t>(path_size), path_.end());
+  std::vector<SmootherNode> nodes_a;
+  if (nodes_.size() > path_size) nodes_a.assign(nodes_.begin() + static_cast<std::ptrdiff_t>(path_size), nodes_.end());
+  const size_t first_smoothed_a = first_smoothed_, smoother_bytes_a = smoother_bytes_;
+  const Adaptation adaptation_a = adaptation();
+  const int64_t recoveries_a = recoveries_, stationary_updates_a = stationary_updates_;
+  const auto pending_a = pending_;
+  const auto touched_a = touched_;
+  std::vector<std::tuple<EkfFilter, int64_t, Adaptation>> snapshots_a;
+  for (auto it = entry; it != history_.end(); ++it) snapshots_a.emplace_back(it->before, it->before_utime, it->before_adaptation);
+  const double log_likelihood_a = trial_.log_likelihood;
+  const std::vector<Verdict> verdicts_a = std::move(trial_.verdicts);
+
+  trial_.log_likelihood = 0.0;
+  trial_.verdicts.clear();
+  trial_.recording = false;
+  setAdaptation(entry->before_adaptation);
+  trial_rerun_ = true;
+  replayFrom(offset, trial_.step);
+  trial_rerun_ = false;
+
+  // B is kept only where it scored the same ranges (its re-run widened where A's run triggered).
+  const bool widened_better = trial_.verdicts.size() == verdicts_a.size() && trial_.log_likelihood > log_likelihood_a;
+  if (widened_better) {
+    for (Verdict verdict : trial_.verdicts) commitVerdict(verdict);
+  } else {
+    filter_ = filter_a;
+    state_utime_ = state_utime_a;
+    truncatePath(path_size);
+    path_.insert(path_.end(), path_a.begin(), path_a.end());
+    if (config_.smooth_trajectory) nodes_.insert(nodes_.end(), nodes_a.begin(), nodes_a.end());
+    first_smoothed_ = first_smoothed_a;
+    smoother_bytes_ = smoother_bytes_a;
+    setAdaptation(adaptation_a);
+    recoveries_ = recoveries_a;
+    stationary_updates_ = stationary_updates_a;
+    pending_ = pending_a;
+    touched_ = touched_a;
+    auto it = entry;
+    for (const auto& [before, before_utime, before_adaptation] : snapshots_a) {
+      it->before = before;
+      it->before_utime = before_utime;
+      it->before_adaptation = before_adaptation;
+      ++it;
+    }
+    for (Verdict verdict : verdicts_a) commitVerdict(verdict);
+    ++recoveries_declined_;
+  }
+  trial_ = RecoveryTrial{};
+  map_dirty_ = true;
+}
+
+}  // namespace ekf
+}  // namespace roam
