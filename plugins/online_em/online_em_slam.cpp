@@ -849,7 +849,10 @@ std::string OnlineEmSlam::neverInitialisedReason(InitCheck check) {
 }
 
 void OnlineEmSlam::finish() {
+  // Ranges later than the last step (or stamped at its time, after it) have no step to be
+  // applied in: rejected, as the EKF does, so every range is counted once.
   setDiagnostic("ranges_after_last_odometry", static_cast<double>(queued_ranges_.size()));
+  for (size_t k = 0; k < queued_ranges_.size(); ++k) rejectRange("after the last odometry step");
   // A landmark that never entered the map used none of its ranges: they are rejected under the
   // check its last multilateration failed, so the run's warning names the key to look at.
   int never_initialised = 0;

@@ -89,10 +89,12 @@ TEST(OnlineEmNoiseFree, ExactMapStaysFixedAndPathIsExact) {
   EXPECT_NEAR(slam.rangeScale(), 1.0, 1e-6);
   EXPECT_NEAR(slam.rangeOffset(), 0.0, 1e-4);
   // In roam-run's order a range stamped at the last odometry time comes after that step and
-  // waits for a step that never comes (counted as ranges_after_last_odometry); every other is used.
+  // waits for a step that never comes (rejected, and counted as ranges_after_last_odometry); every
+  // other is used.
   int64_t after_last = 0;
   for (const Range& r : data.ranges) after_last += r.utime >= data.odometry.back().utime ? 1 : 0;
   EXPECT_EQ(slam.rangesAccepted(), static_cast<int64_t>(data.ranges.size()) - after_last);
+  EXPECT_EQ(slam.rangesRejected(), after_last);  // "after the last odometry step"
   EXPECT_EQ(after_last, 1);
 }
 
@@ -126,8 +128,9 @@ TEST(OnlineEmNoiseFree, ALandmarkNeverInitialisedHasItsRangesRejectedWithTheKey)
     }
   }
   ASSERT_GT(far, 40);  // a fifth of the 2 Hz round robin over 120 s
-  EXPECT_EQ(slam.rangesRejected(), far);
+  EXPECT_EQ(slam.rangesRejected(), far + after_last);  // and the range after the last step
   EXPECT_EQ(slam.rangesAccepted(), static_cast<int64_t>(data.ranges.size()) - far - after_last);
+  EXPECT_EQ(slam.rejections().at("range: after the last odometry step"), after_last);
   const std::string reason =
       "range: landmark never initialised: its ranging positions span too narrow an angle seen from it "
       "(init_min_spread_fraction)";
@@ -137,10 +140,10 @@ TEST(OnlineEmNoiseFree, ALandmarkNeverInitialisedHasItsRangesRejectedWithTheKey)
   const Map map = slam.currentMap();
   ASSERT_EQ(map.size(), 4u);
   EXPECT_LT(mapError(map, Map(data.beacons.begin(), data.beacons.begin() + 4)), kExactMap_m);
-  // Without the far beacon nothing is rejected.
+  // Without the far beacon nothing is rejected but the range after the last step.
   OnlineEmSlam near(noiseFreeConfig("start_pose"));
   feed(sim::simulate(plazaLike(600, 3)), near);
-  EXPECT_EQ(near.rangesRejected(), 0);
+  EXPECT_EQ(near.rangesRejected(), after_last);
   EXPECT_EQ(near.diagnostics().at("landmarks_never_initialised"), 0.0);
 }
 
