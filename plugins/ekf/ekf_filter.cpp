@@ -168,7 +168,8 @@ EkfFilter::Update EkfFilter::updateRange(int beacon_id, double range_m, double s
   Eigen::MatrixXd R(1, 1);
   R(0, 0) = sigma_m * sigma_m;
   if (innovation_m) *innovation_m = innovation(0);
-  if (innovation_var_m2) *innovation_var_m2 = H.dot(P_ * H.transpose()) + R(0, 0);
+  const double HPHt = huber_k > 0.0 || innovation_var_m2 ? H.dot(P_ * H.transpose()) : 0.0;
+  if (innovation_var_m2) *innovation_var_m2 = HPHt + R(0, 0);
   if (huber_k > 0.0) {
     // Huber: beyond k sigma of the innovation's own spread S, the range counts with weight
     // k / |z| (z = innovation / sqrt(S)), i.e. S -> S |z| / k: its pull grows linearly, not
@@ -177,7 +178,6 @@ EkfFilter::Update EkfFilter::updateRange(int beacon_id, double range_m, double s
     // The weight is judged without the range-bias states' own uncertainty: while their prior
     // is wide (10 % of a 150 m range is 15 m) every outlier fits by moving them, which is how
     // they learn a wrong scale from the first few ranges.
-    const double HPHt = H.dot(P_ * H.transpose());
     const double S = HPHt + R(0, 0);
     const double z2 = innovation(0) * innovation(0) / S;
     if (nis) *nis = z2;
