@@ -115,6 +115,21 @@ TEST(EkfRecovery, AWideningThatFindsALostFilterItsWayBackIsKept) {
   EXPECT_EQ(never.at("starvation_recoveries"), 0.0);
 }
 
+TEST(EkfRecovery, ATrialThatOutlastsItsRangesIsDecidedAndRepeats) {
+  // With a trial longer than the ranges that come (recover_trial_ranges 100000), each trial holds
+  // the history (snapshots released but for its first step) until init_window_s has passed or the
+  // run ends, and is decided there. The counts still add up and the run repeats bit for bit.
+  const sim::SimRun run = sim::simulate(sim::goatsLikeWorld(313, 210));
+  const Outcome first = runWithSurveyedBeacons(run, 100000);
+  const Outcome again = runWithSurveyedBeacons(run, 100000);
+  std::printf("GOATS-like seed 313, trials of 100000 ranges: %.2f m\n", first.error_m);
+  EXPECT_GE(first.diagnostics.at("starvation_recoveries") + first.diagnostics.at("starvation_recoveries_declined"), 1.0);
+  EXPECT_EQ(first.accepted + first.rejected, static_cast<int64_t>(run.ranges.size()));
+  EXPECT_TRUE(std::isfinite(first.error_m));
+  ASSERT_EQ(again.trajectory.size(), first.trajectory.size());
+  for (size_t k = 0; k < again.trajectory.size(); ++k) EXPECT_EQ(again.trajectory[k].x_m, first.trajectory[k].x_m);
+}
+
 TEST(EkfRecovery, WithoutAStarvationRunNothingChanges) {
   // A clean drifting figure-8 never gates eight in a row: the trial never opens and the result
   // is the one without it, bit for bit.
