@@ -32,31 +32,13 @@
 namespace roam {
 namespace ekf {
 
-EkfSlam::Adaptation EkfSlam::adaptation() const {
-  Adaptation a;
-  a.gated_in_row = gated_in_row_;
-  a.min_gated_innovation_m = min_gated_innovation_m_;
-  a.motion_noise_scale = motion_noise_scale_;
-  a.range_noise_scale = range_noise_scale_;
-  a.nis_average = nis_average_;
-  return a;
-}
-
-void EkfSlam::setAdaptation(const Adaptation& a) {
-  gated_in_row_ = a.gated_in_row;
-  min_gated_innovation_m_ = a.min_gated_innovation_m;
-  motion_noise_scale_ = a.motion_noise_scale;
-  range_noise_scale_ = a.range_noise_scale;
-  nis_average_ = a.nis_average;
-}
-
 void EkfSlam::noteGated(double innovation_m, int64_t step_index, bool live) {
   if (config_.recover_after_gated == 0) return;
-  min_gated_innovation_m_ = gated_in_row_ == 0 ? innovation_m : std::min(min_gated_innovation_m_, innovation_m);
-  if (++gated_in_row_ < config_.recover_after_gated) return;
+  adapt_.min_gated_innovation_m = adapt_.gated_in_row == 0 ? innovation_m : std::min(adapt_.min_gated_innovation_m, innovation_m);
+  if (++adapt_.gated_in_row < config_.recover_after_gated) return;
   if (live && !finishing_ && config_.recover_trial_ranges > 0) {
     // Live: on trial. While one is open, further runs leave the running filter as it is.
-    gated_in_row_ = 0;
+    adapt_.gated_in_row = 0;
     if (!trial_.active) startRecoveryTrial(step_index);
     return;
   }
@@ -65,11 +47,11 @@ void EkfSlam::noteGated(double innovation_m, int64_t step_index, bool live) {
 }
 
 void EkfSlam::widenStarved() {
-  filter_.inflatePose(min_gated_innovation_m_ * min_gated_innovation_m_, 0.0);
+  filter_.inflatePose(adapt_.min_gated_innovation_m * adapt_.min_gated_innovation_m, 0.0);
   // The odometry is worse than configured: scale its noise up (decays by motion_noise_decay per
   // applied range back towards the configured noise).
-  motion_noise_scale_ = std::min(config_.motion_noise_max_scale, 4.0 * motion_noise_scale_);
-  gated_in_row_ = 0;
+  adapt_.motion_noise_scale = std::min(config_.motion_noise_max_scale, 4.0 * adapt_.motion_noise_scale);
+  adapt_.gated_in_row = 0;
   ++recoveries_;
 }
 
@@ -143,7 +125,7 @@ void EkfSlam::decideRecoveryTrial() {
   std::vector<SmootherNode> nodes_a;
   if (nodes_.size() > path_size) nodes_a.assign(nodes_.begin() + static_cast<std::ptrdiff_t>(path_size), nodes_.end());
   const size_t first_smoothed_a = first_smoothed_, smoother_bytes_a = smoother_bytes_;
-  const Adaptation adaptation_a = adaptation();
+  const Adaptation adaptation_a = adapt_;
   const int64_t recoveries_a = recoveries_, stationary_updates_a = stationary_updates_;
   const auto pending_a = pending_;
   const auto touched_a = touched_;
@@ -155,7 +137,7 @@ void EkfSlam::decideRecoveryTrial() {
   trial_.log_likelihood = 0.0;
   trial_.verdicts.clear();
   trial_.recording = false;
-  setAdaptation(entry->before_adaptation);
+  adapt_ = entry->before_adaptation;
   trial_rerun_ = true;
   replayFrom(offset, trial_.step);
   trial_rerun_ = false;
@@ -172,7 +154,7 @@ void EkfSlam::decideRecoveryTrial() {
     if (config_.smooth_trajectory) nodes_.insert(nodes_.end(), nodes_a.begin(), nodes_a.end());
     first_smoothed_ = first_smoothed_a;
     smoother_bytes_ = smoother_bytes_a;
-    setAdaptation(adaptation_a);
+    adapt_ = adaptation_a;
     recoveries_ = recoveries_a;
     stationary_updates_ = stationary_updates_a;
     pending_ = pending_a;

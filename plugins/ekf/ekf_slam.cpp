@@ -243,7 +243,7 @@ void EkfSlam::advance(Step step, bool live) {
   step.before = filter_;
   step.before_utime = state_utime_;
   step.path_size = path_.size();
-  step.before_adaptation = adaptation();
+  step.before_adaptation = adapt_;
   runStep(step, live);
   if (live) acceptOdometry();
   history_.push_back(std::move(step));
@@ -281,13 +281,13 @@ void EkfSlam::truncatePath(size_t size) {
 
 Eigen::Matrix3d EkfSlam::scaledMotionNoise(const Eigen::Matrix3d& Q) const {
   // Starvation says the odometry's translation is worse than configured (an AUV's dead
-  // reckoning: 15 % against 2 %): motion_noise_scale_ multiplies the translation block (and the
-  // cross terms by its square root). The turn's variance is not scaled: a heading that random-
+  // reckoning: 15 % against 2 %): adapt_.motion_noise_scale multiplies the translation block
+  // (and the cross terms by its square root). The turn's variance is not scaled: a heading that random-
   // walks by tenths of a radian per step puts every range outside the EKF's linear regime, and
   // the configured heading noise is already a per-metre walk that covers a drifting gyro.
-  const double root = std::sqrt(motion_noise_scale_);
+  const double root = std::sqrt(adapt_.motion_noise_scale);
   Eigen::Matrix3d scaled = Q;
-  scaled.topLeftCorner<2, 2>() *= motion_noise_scale_;
+  scaled.topLeftCorner<2, 2>() *= adapt_.motion_noise_scale;
   scaled.topRightCorner<2, 1>() *= root;
   scaled.bottomLeftCorner<1, 2>() *= root;
   return scaled;
@@ -332,7 +332,7 @@ bool EkfSlam::stationaryBiasUpdate(const Odometry& odo, double dt_s, double var_
 
 void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
   // A stated sigma is a floor, not the truth (GOATS states 0.75 m for ranges good to ~2 m).
-  const double sigma_m = std::max(range.sigma_m, config_.range_sigma_m) * std::sqrt(range_noise_scale_);
+  const double sigma_m = std::max(range.sigma_m, config_.range_sigma_m) * std::sqrt(adapt_.range_noise_scale);
   if (filter_.hasBeacon(range.beacon_id)) {
     if (excluded_ranges_.count({range.beacon_id, range.utime})) return;  // an outlier of its initialisation
     double nis = 0.0, innovation_m = 0.0, innovation_var_m2 = 0.0;
@@ -350,8 +350,8 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
     }
     if (result == EkfFilter::Update::kApplied) {
       map_dirty_ = true;
-      gated_in_row_ = 0;
-      motion_noise_scale_ = std::max(1.0, motion_noise_scale_ * config_.motion_noise_decay);
+      adapt_.gated_in_row = 0;
+      adapt_.motion_noise_scale = std::max(1.0, adapt_.motion_noise_scale * config_.motion_noise_decay);
       adaptRangeNoise(nis);
       countRange(Verdict::kApplied, live, recording);
     } else if (result == EkfFilter::Update::kGated) {
@@ -403,9 +403,9 @@ void EkfSlam::adaptRangeNoise(double nis) {
   // up (x 1.1 per range while the average over ~20 ranges is above 2), and back down (to the
   // stated or configured sigma) while it is below 1, within [1, range_noise_max_scale].
   if (config_.range_noise_max_scale <= 1.0) return;
-  nis_average_ += 0.05 * (nis - nis_average_);
-  if (nis_average_ > 2.0) range_noise_scale_ = std::min(config_.range_noise_max_scale, 1.1 * range_noise_scale_);
-  if (nis_average_ < 1.0) range_noise_scale_ = std::max(1.0, range_noise_scale_ / 1.1);
+  adapt_.nis_average += 0.05 * (nis - adapt_.nis_average);
+  if (adapt_.nis_average > 2.0) adapt_.range_noise_scale = std::min(config_.range_noise_max_scale, 1.1 * adapt_.range_noise_scale);
+  if (adapt_.nis_average < 1.0) adapt_.range_noise_scale = std::max(1.0, adapt_.range_noise_scale / 1.1);
 }
 
 void EkfSlam::rollbackAndInsert(int id, const MultilaterationResult& solve, std::vector<Sighting> used) {
@@ -466,7 +466,7 @@ void EkfSlam::replayFrom(int64_t offset, int64_t first_step) {
     it->before = sparse_snapshots && it != entry && it->index != 0 ? EkfFilter{} : filter_;
     it->before_utime = state_utime_;
     it->path_size = path_.size();
-    it->before_adaptation = adaptation();
+    it->before_adaptation = adapt_;
     runStep(*it, false);
   }
 }
@@ -664,8 +664,8 @@ void EkfSlam::publishDiagnostics() {
   setDiagnostic("ranges_gated_fraction", ranges_seen > 0 ? static_cast<double>(gated_) / static_cast<double>(ranges_seen) : 0.0);
   setDiagnostic("starvation_recoveries", static_cast<double>(recoveries_));
   setDiagnostic("starvation_recoveries_declined", static_cast<double>(recoveries_declined_));
-  setDiagnostic("motion_noise_scale", motion_noise_scale_);
-  setDiagnostic("range_noise_scale", range_noise_scale_);
+  setDiagnostic("motion_noise_scale", adapt_.motion_noise_scale);
+  setDiagnostic("range_noise_scale", adapt_.range_noise_scale);
   if (filter_.withCalibration()) {
     const Eigen::MatrixXd& P = filter_.covariance();
     const int c = filter_.calibrationIndex();

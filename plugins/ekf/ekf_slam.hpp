@@ -99,11 +99,11 @@ class EkfSlam : public Estimator {
   // The noise the filter has adapted and its count towards a starvation recovery: with the
   // filter, what a re-run from a step starts from.
   struct Adaptation {
-    int gated_in_row = 0;
+    int gated_in_row = 0;  // ranges to known beacons gated since the last applied one
     double min_gated_innovation_m = 0.0;
-    double motion_noise_scale = 1.0;
-    double range_noise_scale = 1.0;
-    double nis_average = 1.0;
+    double motion_noise_scale = 1.0;  // multiplies the odometry covariance (starvation raises it)
+    double range_noise_scale = 1.0;   // multiplies the range variance (adaptRangeNoise)
+    double nis_average = 1.0;         // running average of applied ranges' NIS
   };
   // What became of a range to a beacon in the state.
   enum class Verdict { kApplied, kGated, kDegenerate };
@@ -173,8 +173,6 @@ class EkfSlam : public Estimator {
   bool recoveryTrialDue() const;
   void decideRecoveryTrial();
   void abandonRecoveryTrial();  // a re-run rewrote the trial's steps: the running filter's verdicts stand
-  Adaptation adaptation() const;
-  void setAdaptation(const Adaptation& adaptation);
   void checkBiasObservable(int64_t range_utime);
   bool biasEstimated(int64_t step_index) const;  // b is a live state in this step
   void adaptRangeNoise(double nis);
@@ -226,8 +224,7 @@ class EkfSlam : public Estimator {
   std::set<std::pair<int, int64_t>> first_pass_excluded_;  // excluded_ranges_ of the pass before a fresh re-run
   int64_t excluded_ranges_total_ = 0;
   int64_t gated_ = 0;
-  int gated_in_row_ = 0;              // ranges to known beacons gated since the last applied one
-  double min_gated_innovation_m_ = 0.0;
+  Adaptation adapt_;
   int64_t recoveries_ = 0;
   int64_t recoveries_declined_ = 0;   // widenings whose trial the run without them won
   RecoveryTrial trial_;
@@ -236,9 +233,6 @@ class EkfSlam : public Estimator {
   int64_t known_ranges_live_ = 0;     // live ranges to beacons in the state,
   int64_t known_ranges_gated_live_ = 0;  // and of them gated (the trial's outlier weight)
   double max_range_m_ = 0.0;          // the longest range so far (the trial's outlier span)
-  double motion_noise_scale_ = 1.0;
-  double range_noise_scale_ = 1.0;  // multiplies the range variance (adaptRangeNoise)
-  double nis_average_ = 1.0;        // running average of applied ranges' NIS  // multiplies the odometry covariance (starvation raises it)
   // Bias observability (checkBiasObservable): the first ranges' times, and the decision.
   estimation::BiasObservability bias_rate_{0.0, 0.0};
   // Until decided, b is held at 0; estimated from step bias_release_step_ on (re-runs too).

@@ -59,7 +59,7 @@ void EkfSlam::solveEarlyWindow() {
       if (it == landmark_of.end() || excluded_ranges_.count({range.beacon_id, range.utime})) continue;
       const double f = dt_s > 0.0 ? std::clamp(1e-6 * static_cast<double>(range.utime - path_[j].utime) / dt_s, 0.0, 1.0) : 1.0;
       problem.ranges.push_back({it->second, static_cast<int>(j), f, range.range_m,
-                                std::max(range.sigma_m, config_.range_sigma_m) * std::sqrt(range_noise_scale_)});
+                                std::max(range.sigma_m, config_.range_sigma_m) * std::sqrt(adapt_.range_noise_scale)});
     }
   }
   if (problem.landmarks_m.empty()) return;

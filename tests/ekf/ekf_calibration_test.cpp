@@ -109,17 +109,8 @@ TEST(EkfCalibration, ASlowVehicleTurningIsNotStandingStill) {
   EXPECT_NEAR(ekf.path().back().heading_rad, heading, kExact);
 }
 
-double meanError(const Path& path, const Path& truth) {
-  double sum = 0.0;
-  for (size_t k = 0; k < path.size(); ++k) sum += std::hypot(path[k].x_m - truth[k].x_m, path[k].y_m - truth[k].y_m);
-  return sum / static_cast<double>(path.size());
-}
-
-double deadReckoningError(const sim::SimRun& run) {
-  Path path{run.start};
-  for (const Odometry& o : run.odometry) path.push_back(estimation::step(path.back(), o));
-  return meanError(path, run.ground_truth);
-}
+using test::deadReckoningError;
+using test::meanError;
 
 // The development gyro-drift run (seed 201), 3000 steps of 0.2 s: 0.01 rad/s (0.57 deg/s) of bias.
 sim::SimConfig gyroDriftFigure8() { return sim::gyroDriftFigure8World(201, 3000); }

@@ -18,17 +18,8 @@ namespace roam {
 namespace ekf {
 namespace {
 
-double meanError(const Path& path, const Path& truth) {
-  double sum = 0.0;
-  for (size_t k = 0; k < path.size(); ++k) sum += std::hypot(path[k].x_m - truth[k].x_m, path[k].y_m - truth[k].y_m);
-  return sum / static_cast<double>(path.size());
-}
-
-double deadReckoningError(const sim::SimRun& run) {
-  Path path{run.start};
-  for (const Odometry& o : run.odometry) path.push_back(estimation::step(path.back(), o));
-  return meanError(path, run.ground_truth);
-}
+using test::deadReckoningError;
+using test::meanError;
 
 struct Outcome {
   double error_m = 0.0;  // the published TRAJECTORY's mean error

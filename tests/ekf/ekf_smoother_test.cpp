@@ -86,11 +86,7 @@ TEST(EkfSmoother, EqualsAStochasticCloneOfThePose) {
   EXPECT_GT(std::hypot(smoothed[kClone].x_m - nodes[kClone].pose.x(), smoothed[kClone].y_m - nodes[kClone].pose.y()), 1e-3);
 }
 
-double meanError(const Path& path, const Path& truth) {
-  double sum = 0.0;
-  for (size_t k = 0; k < path.size(); ++k) sum += std::hypot(path[k].x_m - truth[k].x_m, path[k].y_m - truth[k].y_m);
-  return sum / static_cast<double>(path.size());
-}
+using test::meanError;
 
 TEST(EkfSmoother, SmoothedTrajectoryOnGyroDriftFigure8) {
   // Seeds 301-303 (3000 steps, 0.01 rad/s gyro bias), both anchors. The smoother removes the
