@@ -151,7 +151,12 @@ class EkfSlam : public Estimator {
   void solveEarlyWindow();
   void rollbackAndInsert(int id, const MultilaterationResult& solve, std::vector<Sighting> used);
   void replayFrom(int64_t offset, int64_t first_step);
-  void rerunWithCalibration();
+  // The calibrated re-run (anchor = start_pose) once the bias is known; live, it waits for every
+  // pending beacon. at_end: the end of input (a beacon still pending will get no sighting more),
+  // or the history it needs about to be freed: a pending beacon no longer holds it back.
+  void rerunWithCalibration(bool at_end = false);
+  // The history from step 0 is older than init_window_s: prune frees it unless a re-run is made.
+  bool rerunHistoryExpiring() const;
   void reinitialiseFromStart();  // re-filters the kept history with every beacon initialised afresh
   bool confirmStandstill(const Odometry& odometry, double dt_s);
   bool stationaryBiasUpdate(const Odometry& odometry, double dt_s, double var_turn_rad2);

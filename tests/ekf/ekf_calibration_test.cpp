@@ -197,6 +197,62 @@ TEST(EkfCalibration, GyroDriftFigure8StartPoseFrameDoesNotDependOnTheBias) {
   EXPECT_EQ(ekf.diagnostics().at("calibration_reruns_reinitialised"), 0.0);
 }
 
+// A 60 x 40 m lawn mower with a drifting gyro (0.005 rad/s), one of whose six beacons lies beyond
+// the lanes' ends and is seen over too narrow an arc to be placed (roam-sim's world, seed 315).
+// The calibrated re-run waits for every pending beacon; it used to wait for that one for ever
+// and never turn the map the bias had turned (2.47 m, as with no re-run at all).
+sim::SimConfig pendingBeaconWorld() {
+  sim::SimConfig world = sim::nlos30LawnMowerWorld(315, 1500);
+  world.area_width_m = 60.0;
+  world.area_height_m = 40.0;
+  world.outlier_fraction = 0.0;
+  world.odo_heading_bias_radps = 0.005;
+  return world;
+}
+
+TEST(EkfCalibration, ABeaconStillPendingDoesNotHoldBackTheCalibratedRerun) {
+  // Measured: 1.03 m with the re-run made at the end of input, 2.52 m without any (dead reckoning
+  // 13.8 m), 1.05 m with the re-run made at 200 s; over 20 such runs at 50 Hz odometry and 10 Hz
+  // ranges the nine it held back went from 2.26 to 0.96 m mean.
+  const sim::SimRun run = sim::simulate(pendingBeaconWorld());
+  EkfSlam ekf(EkfConfig{});
+  test::feed(run, ekf);
+  const double error_m = meanError(ekf.path(), run.ground_truth);
+  std::printf("pending beacon, gyro drift, start pose: %.3f m (dead reckoning %.2f m)\n", error_m, deadReckoningError(run));
+  EXPECT_EQ(ekf.diagnostics().at("beacons_pending"), 1.0);
+  EXPECT_EQ(ekf.diagnostics().at("calibration_reruns"), 1.0);
+  EXPECT_LT(error_m, 1.2);
+
+  EkfConfig never;
+  never.calib_rerun_fraction = 0.0;
+  EkfSlam first_pass(never);
+  test::feed(run, first_pass);
+  EXPECT_EQ(first_pass.diagnostics().at("calibration_reruns"), 0.0);
+  const double first_pass_m = meanError(first_pass.path(), run.ground_truth);
+  std::printf("  without the re-run: %.3f m\n", first_pass_m);
+  EXPECT_GT(first_pass_m, 2.0);
+
+  // With the history bounded to 200 s, the re-run is made when that history is about to be freed
+  // (the run lasts 300 s), not given up.
+  EkfConfig short_history;
+  short_history.init_window_s = 200.0;
+  EkfSlam bounded(short_history);
+  test::feed(run, bounded);
+  EXPECT_EQ(bounded.diagnostics().at("calibration_reruns"), 1.0);
+  const double bounded_m = meanError(bounded.path(), run.ground_truth);
+  std::printf("  history bounded to 200 s: %.3f m\n", bounded_m);
+  EXPECT_LT(bounded_m, 1.2);
+
+  // Bit for bit on a repeat.
+  EkfSlam again(EkfConfig{});
+  test::feed(run, again);
+  ASSERT_EQ(again.path().size(), ekf.path().size());
+  for (size_t k = 0; k < ekf.path().size(); ++k) {
+    ASSERT_EQ(again.path()[k].x_m, ekf.path()[k].x_m);
+    ASSERT_EQ(again.path()[k].y_m, ekf.path()[k].y_m);
+  }
+}
+
 TEST(EkfCalibration, ASlowUwbRobotEstimatesItsGyroBiasFromTheStartPose) {
   // A slow UWB robot (sim::slowUwbWorld, seed-sweep's slow-uwb): 1 s steps at 0.5 m/s, one range
   // every 2 s round robin over six beacons, a gyro drifting at 0.005 rad/s.
