@@ -394,18 +394,13 @@ TEST(OnlineEmCalibration, CalibratedRerunFixesTheStartFrame) {
   EXPECT_LT(mean_m, 0.5 * off_m);
 }
 
-// A 60 x 40 m lawn mower with a drifting gyro (0.005 rad/s): the landmarks enter only after the
+// A 60 x 40 m lawn mower with a drifting gyro (sim::longLanesWorld): the landmarks enter only after the
 // first 60 m lane, and b's sigma stays above rerun_bias_sigma_fraction to the end, so the
 // calibrated re-run never came and the frame correction, a rigid fit about the window's centroid,
 // stayed in effect with the start pose moved metres off the start. At the end of input the re-run
 // is made with b as learned over the run.
 TEST(OnlineEmCalibration, AFrameCorrectionLeftAtTheEndIsReplacedByTheCalibratedRerun) {
-  sim::SimConfig world = sim::nlos30LawnMowerWorld(302, 1500);
-  world.area_width_m = 60.0;
-  world.area_height_m = 40.0;
-  world.outlier_fraction = 0.0;
-  world.odo_heading_bias_radps = 0.005;
-  const Dataset data = sim::simulate(world);
+  const Dataset data = sim::simulate(sim::longLanesWorld(302, 1500));
   OnlineEmSlam slam{OnlineEmConfig{}};
   feed(data, slam);
   OnlineEmConfig off;

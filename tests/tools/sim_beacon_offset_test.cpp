@@ -92,15 +92,17 @@ std::string fileBytes(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-TEST(SimWorlds, GoatsLikeWorldIsTheSeedSweepsAuvGoatsKind) {
-  // The tests' goatsLikeWorld and utilities/seed-sweep's auv-goats options make the same run.
+// The run utilities/seed-sweep's KIND makes (its --list options, seed 7) is the one the tests'
+// world makes: byte for byte the same log.
+void expectSeedSweepKindIsWorld(const std::string& kind, const roam::sim::SimConfig& world_config,
+                                const std::string& world_name) {
   roam_test::ScratchDir dir;
   const roam_test::ToolResult list = roam_test::runTool(std::string(ROAM_SOURCE_DIR) + "/utilities/seed-sweep --list");
   ASSERT_EQ(list.status, 0) << list.out;
   std::istringstream lines(list.out);
   std::string line, options;
   while (std::getline(lines, line))
-    if (line.rfind("auv-goats:", 0) == 0 && std::getline(lines, options)) break;
+    if (line.rfind(kind + ":", 0) == 0 && std::getline(lines, options)) break;
   const std::string prefix = "  roam-sim ", suffix = " --seed SEED";
   ASSERT_EQ(options.rfind(prefix, 0), 0u) << options;
   ASSERT_GT(options.size(), prefix.size() + suffix.size());
@@ -108,10 +110,18 @@ TEST(SimWorlds, GoatsLikeWorldIsTheSeedSweepsAuvGoatsKind) {
   const roam_test::ToolResult made =
       roam_test::runTool(roam_test::tool("roam-sim") + " -o " + dir.file("cli.lcmlog") + " --seed 7 " + options);
   ASSERT_EQ(made.status, 0) << made.out;
-  roam::writeDatasetLog(dir.file("world.lcmlog"), roam::sim::simulate(roam::sim::goatsLikeWorld(7, 210)));
+  roam::writeDatasetLog(dir.file("world.lcmlog"), roam::sim::simulate(world_config));
   const std::string cli = fileBytes(dir.file("cli.lcmlog")), world = fileBytes(dir.file("world.lcmlog"));
   EXPECT_GT(cli.size(), 10000u);
-  EXPECT_TRUE(cli == world) << "roam-sim " << options << " differs from sim::goatsLikeWorld(7, 210)";
+  EXPECT_TRUE(cli == world) << "roam-sim " << options << " differs from " << world_name;
+}
+
+TEST(SimWorlds, GoatsLikeWorldIsTheSeedSweepsAuvGoatsKind) {
+  expectSeedSweepKindIsWorld("auv-goats", roam::sim::goatsLikeWorld(7, 210), "sim::goatsLikeWorld(7, 210)");
+}
+
+TEST(SimWorlds, LongLanesWorldIsTheSeedSweepsLongLanesKind) {
+  expectSeedSweepKindIsWorld("long-lanes", roam::sim::longLanesWorld(7, 1500), "sim::longLanesWorld(7, 1500)");
 }
 
 }  // namespace

@@ -230,6 +230,15 @@ SimConfig nlos30LawnMowerWorld(uint64_t seed, int num_steps) {
   return c;
 }
 
+SimConfig longLanesWorld(uint64_t seed, int num_steps) {
+  SimConfig c = nlos30LawnMowerWorld(seed, num_steps);
+  c.area_width_m = 60.0;
+  c.area_height_m = 40.0;
+  c.outlier_fraction = 0.0;
+  c.odo_heading_bias_radps = 0.005;
+  return c;
+}
+
 SimRun simulate(const SimConfig& c) {
   if (c.num_steps < 1) throw std::invalid_argument("num_steps must be >= 1");
   if (c.dt_s <= 0.0) throw std::invalid_argument("dt_s must be > 0");
