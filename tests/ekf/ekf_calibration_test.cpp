@@ -204,7 +204,7 @@ TEST(EkfCalibration, GyroDriftFigure8StartPoseFrameDoesNotDependOnTheBias) {
 TEST(EkfCalibration, ABeaconStillPendingDoesNotHoldBackTheCalibratedRerun) {
   // Measured: 1.03 m with the re-run made at the end of input, 2.52 m without any (dead reckoning
   // 13.8 m), 1.05 m with the re-run made at 200 s; over 20 such runs at 50 Hz odometry and 10 Hz
-  // ranges the nine it held back went from 2.26 to 0.96 m mean.
+  // ranges the eleven it held back went from 1.92 to 0.86 m mean.
   const sim::SimRun run = sim::simulate(sim::longLanesWorld(315, 1500));
   EkfSlam ekf(EkfConfig{});
   test::feed(run, ekf);
