@@ -473,7 +473,7 @@ void EkfSlam::replayFrom(int64_t offset, int64_t first_step) {
   }
 }
 
-void EkfSlam::rerunWithCalibration(bool at_end) {
+void EkfSlam::rerunWithCalibration(bool pending_may_not_wait) {
   // anchor = start_pose: the map's orientation is set when the first beacons enter, while the
   // heading-rate bias is still at its prior (the heading's sigma is then b_sigma * t), and the
   // EKF cannot rotate it afterwards. So the history is kept from the start until the bias is
@@ -488,7 +488,7 @@ void EkfSlam::rerunWithCalibration(bool at_end) {
   // (seen over too narrow an arc, say) no longer holds it back: the re-run is made without it
   // rather than not at all (a 50 Hz run with a beacon outside the area, 20 seeds: the eleven
   // runs it held back 1.92 -> 0.86 m mean).
-  if (filter_.beacons().empty() || (!pending_.empty() && !at_end) ||
+  if (filter_.beacons().empty() || (!pending_.empty() && !pending_may_not_wait) ||
       sigma_b > config_.calib_rerun_fraction * config_.gyro_bias_sigma_rad_s)
     return;
   calib_rerun_pending_ = false;
@@ -542,7 +542,9 @@ void EkfSlam::reinitialiseFromStart() {
   state_utime_ = old.front().before_utime;
   truncatePath(old.front().path_size);
   next_step_ = old.front().index;
-  pending_.clear();  // empty (the re-run waits for every beacon), as pending_live_ranges_
+  // A beacon still pending (a re-run at the end of input or as its history expires) is buffered
+  // again from the re-run's own poses; its live range count (pending_live_ranges_) stays.
+  pending_.clear();
   touched_.clear();
   first_pass_excluded_ = std::move(excluded_ranges_);  // the first pass's verdicts, for the solves
   excluded_ranges_.clear();

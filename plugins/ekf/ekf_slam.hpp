@@ -152,9 +152,10 @@ class EkfSlam : public Estimator {
   void rollbackAndInsert(int id, const MultilaterationResult& solve, std::vector<Sighting> used);
   void replayFrom(int64_t offset, int64_t first_step);
   // The calibrated re-run (anchor = start_pose) once the bias is known; live, it waits for every
-  // pending beacon. at_end: the end of input (a beacon still pending will get no sighting more),
-  // or the history it needs about to be freed: a pending beacon no longer holds it back.
-  void rerunWithCalibration(bool at_end = false);
+  // pending beacon. pending_may_not_wait: the end of input (a beacon still pending will get no
+  // sighting more), or the history it needs about to be freed: a pending beacon no longer holds
+  // it back.
+  void rerunWithCalibration(bool pending_may_not_wait = false);
   // The history from step 0 is older than init_window_s: prune frees it unless a re-run is made.
   bool rerunHistoryExpiring() const;
   void reinitialiseFromStart();  // re-filters the kept history with every beacon initialised afresh

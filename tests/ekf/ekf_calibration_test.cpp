@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <utility>
 
 #include "ekf_config.hpp"
 #include "ekf_filter.hpp"
@@ -214,12 +215,16 @@ TEST(EkfCalibration, ABeaconStillPendingDoesNotHoldBackTheCalibratedRerun) {
   EXPECT_EQ(ekf.diagnostics().at("calibration_reruns"), 1.0);
   EXPECT_LT(error_m, 1.2);
 
+  // The run through one config: its calibrated re-runs and its path's mean error.
+  const auto rerunsAndError = [&run](const EkfConfig& config) {
+    EkfSlam slam(config);
+    test::feed(run, slam);
+    return std::make_pair(slam.diagnostics().at("calibration_reruns"), meanError(slam.path(), run.ground_truth));
+  };
   EkfConfig never;
   never.calib_rerun_fraction = 0.0;
-  EkfSlam first_pass(never);
-  test::feed(run, first_pass);
-  EXPECT_EQ(first_pass.diagnostics().at("calibration_reruns"), 0.0);
-  const double first_pass_m = meanError(first_pass.path(), run.ground_truth);
+  const auto [first_pass_reruns, first_pass_m] = rerunsAndError(never);
+  EXPECT_EQ(first_pass_reruns, 0.0);
   std::printf("  without the re-run: %.3f m\n", first_pass_m);
   EXPECT_GT(first_pass_m, 2.0);
 
@@ -227,10 +232,8 @@ TEST(EkfCalibration, ABeaconStillPendingDoesNotHoldBackTheCalibratedRerun) {
   // (the run lasts 300 s), not given up.
   EkfConfig short_history;
   short_history.init_window_s = 200.0;
-  EkfSlam bounded(short_history);
-  test::feed(run, bounded);
-  EXPECT_EQ(bounded.diagnostics().at("calibration_reruns"), 1.0);
-  const double bounded_m = meanError(bounded.path(), run.ground_truth);
+  const auto [bounded_reruns, bounded_m] = rerunsAndError(short_history);
+  EXPECT_EQ(bounded_reruns, 1.0);
   std::printf("  history bounded to 200 s: %.3f m\n", bounded_m);
   EXPECT_LT(bounded_m, 1.2);
 

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdlib>
 
+#include <memory>
+
 #include <gtest/gtest.h>
 
 #include "feed.hpp"
@@ -369,16 +371,30 @@ TEST(OnlineEmCalibration, FastOdometryTellsAsMuchAboutTheBiasPerSecond) {
 // Calibrated re-run (start pose): once b is known, the filter restarts from the start with the
 // learned calibration, so the first landmarks are placed from a calibrated path and the frame
 // is right; without it only the approximate frame correction is left.
-TEST(OnlineEmCalibration, CalibratedRerunFixesTheStartFrame) {
-  const Dataset data = sim::simulate(gyroDriftFigure8(3500, 11));
-  OnlineEmSlam slam{OnlineEmConfig{}};
-  feed(data, slam);
+// The same run with the defaults and with calibrated_rerun = false (the frame correction only).
+struct RerunComparison {
+  std::unique_ptr<OnlineEmSlam> slam, correction_only;
+  double mean_m = 0.0, off_m = 0.0;
+};
+RerunComparison compareCalibratedRerun(const Dataset& data) {
+  RerunComparison c;
+  c.slam = std::make_unique<OnlineEmSlam>(OnlineEmConfig{});
+  feed(data, *c.slam);
   OnlineEmConfig off;
   off.calibrated_rerun = false;
-  OnlineEmSlam correction_only(off);
-  feed(data, correction_only);
-  const double mean_m = meanError(slam.filteredPath(), data.ground_truth);
-  const double off_m = meanError(correction_only.filteredPath(), data.ground_truth);
+  c.correction_only = std::make_unique<OnlineEmSlam>(off);
+  feed(data, *c.correction_only);
+  c.mean_m = meanError(c.slam->filteredPath(), data.ground_truth);
+  c.off_m = meanError(c.correction_only->filteredPath(), data.ground_truth);
+  return c;
+}
+
+TEST(OnlineEmCalibration, CalibratedRerunFixesTheStartFrame) {
+  const Dataset data = sim::simulate(gyroDriftFigure8(3500, 11));
+  const RerunComparison c = compareCalibratedRerun(data);
+  const OnlineEmSlam& slam = *c.slam;
+  const OnlineEmSlam& correction_only = *c.correction_only;
+  const double mean_m = c.mean_m, off_m = c.off_m;
   const auto& d = slam.diagnostics();
   ASSERT_TRUE(d.count("calibrated_rerun_bias_rad_s"));
   EXPECT_FALSE(correction_only.diagnostics().count("calibrated_rerun_bias_rad_s"));
@@ -401,14 +417,10 @@ TEST(OnlineEmCalibration, CalibratedRerunFixesTheStartFrame) {
 // is made with b as learned over the run.
 TEST(OnlineEmCalibration, AFrameCorrectionLeftAtTheEndIsReplacedByTheCalibratedRerun) {
   const Dataset data = sim::simulate(sim::longLanesWorld(302, 1500));
-  OnlineEmSlam slam{OnlineEmConfig{}};
-  feed(data, slam);
-  OnlineEmConfig off;
-  off.calibrated_rerun = false;
-  OnlineEmSlam correction_only(off);
-  feed(data, correction_only);
-  const double mean_m = meanError(slam.filteredPath(), data.ground_truth);
-  const double off_m = meanError(correction_only.filteredPath(), data.ground_truth);
+  const RerunComparison c = compareCalibratedRerun(data);
+  const OnlineEmSlam& slam = *c.slam;
+  const OnlineEmSlam& correction_only = *c.correction_only;
+  const double mean_m = c.mean_m, off_m = c.off_m;
   const Pose& first = correction_only.filteredPath().front();
   std::printf("end re-run: path %.3f m (frame correction only %.3f m, its first pose %.2f m off the start)\n", mean_m,
               off_m, std::hypot(first.x_m - data.start.x_m, first.y_m - data.start.y_m));
