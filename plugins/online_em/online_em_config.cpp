@@ -65,6 +65,9 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
               "smooth_trajectory: re-run the pose filter against the final map and calibration before smoothing");
   options.add("rerun_bias_sigma_fraction", &c->rerun_bias_sigma_fraction,
               "re-run once the bias sigma is below this fraction of its prior").min(0.0, false).max(1.0);
+  options.add("rerun_end_bias_sigmas", &c->rerun_end_bias_sigmas,
+              "start_pose: at the end of input, re-run when no re-run was made and |bias| >= this many sigmas (0: off)")
+      .min(0.0);
   options.add("frame_bias_significance_sigmas", &c->frame_bias_significance_sigmas,
               "also correct the start frame when |bias| >= this many sigmas (0: off)").min(0.0);
   options.add("wheelbase_m", &c->wheelbase_m, "bicycle model wheelbase").min(0.0, false);

@@ -376,12 +376,16 @@ struct RerunComparison {
   std::unique_ptr<OnlineEmSlam> slam, correction_only;
   double mean_m = 0.0, off_m = 0.0;
 };
-RerunComparison compareCalibratedRerun(const Dataset& data) {
+// The defaults against `off` (default: no calibrated re-run at all).
+OnlineEmConfig noCalibratedRerun() {
+  OnlineEmConfig off;
+  off.calibrated_rerun = false;
+  return off;
+}
+RerunComparison compareCalibratedRerun(const Dataset& data, const OnlineEmConfig& off = noCalibratedRerun()) {
   RerunComparison c;
   c.slam = std::make_unique<OnlineEmSlam>(OnlineEmConfig{});
   feed(data, *c.slam);
-  OnlineEmConfig off;
-  off.calibrated_rerun = false;
   c.correction_only = std::make_unique<OnlineEmSlam>(off);
   feed(data, *c.correction_only);
   c.mean_m = meanError(c.slam->filteredPath(), data.ground_truth);
@@ -433,6 +437,41 @@ TEST(OnlineEmCalibration, AFrameCorrectionLeftAtTheEndIsReplacedByTheCalibratedR
   // Measured (seed 302): 0.24 m against 4.62 m, that path's first pose 8.48 m off the start.
   EXPECT_LT(mean_m, 0.5);
   EXPECT_LT(mean_m, 0.5 * off_m);
+}
+
+// The same long lanes, seed 305: no frame correction was in effect, and b's sigma stayed above
+// rerun_bias_sigma_fraction, so no re-run came at all. The particles had turned with the bias
+// for the first lane before it was learned and followed their dead reckoning to the end, though
+// b was learned to within 25 %. At the end of input the re-run is made where the learned b is
+// significant (rerun_end_bias_sigmas); where there is no bias it is not.
+TEST(OnlineEmCalibration, ASignificantBiasLearnedWithoutARerunIsRerunAtTheEnd) {
+  const Dataset data = sim::simulate(sim::longLanesWorld(305, 1500));
+  OnlineEmConfig no_end_rerun;
+  no_end_rerun.rerun_end_bias_sigmas = 0.0;
+  const RerunComparison c = compareCalibratedRerun(data, no_end_rerun);
+  const auto& d = c.slam->diagnostics();
+  const double b_rad_s = c.slam->odometryCalibration().heading_rate_bias_rad_s;
+  std::printf("end re-run at b %.5f rad/s (sigma %.5f): path %.3f m (without it %.3f m)\n", b_rad_s,
+              d.at("heading_rate_bias_sigma_rad_s"), c.mean_m, c.off_m);
+  EXPECT_FALSE(c.correction_only->diagnostics().count("calibrated_rerun_inputs"));
+  EXPECT_FALSE(c.correction_only->diagnostics().count("frame_correction_rad") &&
+               c.correction_only->diagnostics().at("frame_correction_rad") != 0.0);
+  ASSERT_TRUE(d.count("calibrated_rerun_inputs"));
+  EXPECT_EQ(d.at("calibrated_rerun_inputs"), static_cast<double>(data.odometry.size() + data.ranges.size()));
+  EXPECT_NEAR(d.at("calibrated_rerun_bias_rad_s"), 0.005, 0.0015);
+  // Measured (seed 305): b 0.0039 rad/s at 6.1 sigma; path 0.59 m against 12.50 m.
+  EXPECT_LT(c.mean_m, 1.0);
+  EXPECT_LT(c.mean_m, 0.2 * c.off_m);
+
+  // No bias (30 % NLOS, clean odometry): the learned b is within the test, no re-run is made.
+  const Dataset clean = sim::simulate(sim::nlos30LawnMowerWorld(302, 1500));
+  OnlineEmSlam slam{OnlineEmConfig{}};  // defaults: start_pose, calibrate_odometry = true
+  feed(clean, slam);
+  const auto& dc = slam.diagnostics();
+  std::printf("no bias: b %.5f rad/s, sigma %.5f\n", slam.odometryCalibration().heading_rate_bias_rad_s,
+              dc.at("heading_rate_bias_sigma_rad_s"));
+  EXPECT_LT(std::abs(slam.odometryCalibration().heading_rate_bias_rad_s), 3.0 * dc.at("heading_rate_bias_sigma_rad_s"));
+  EXPECT_FALSE(dc.count("calibrated_rerun_inputs"));
 }
 
 // 30 % non-line-of-sight ranges, 2-40 m long (issue 15's heavy-outlier kind), lawn mower.
