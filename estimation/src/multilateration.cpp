@@ -301,53 +301,74 @@ bool multilaterateConsensus(const std::vector<std::array<double, 2>>& positions_
 
 bool multilaterateTriples(const std::vector<std::array<double, 2>>& positions,
                           const std::vector<double>& ranges_m, double inlier_threshold_m,
-                            std::array<double, 2>* beacon_m) {
+                          std::array<double, 2>* beacon_m, int max_triples) {
   const int n = static_cast<int>(positions.size());
   if (n < 3 || static_cast<int>(ranges_m.size()) != n || !(inlier_threshold_m > 0.0)) return false;
   std::vector<Eigen::Vector2d> positions_m;
   for (const auto& p : positions) positions_m.emplace_back(p[0], p[1]);
+  // Consensus over the triples (deterministic): the exact 3-range solution (linear in
+  // (m_x, m_y, |m|^2)) refined on its inliers; the one with the most inliers (then the smallest
+  // inlier residual) wins. Every triple while there are at most max_triples, else max_triples
+  // drawn by a fixed sequence (splitmix64, as multilaterateConsensus): every triple, each scored
+  // and refined over all n ranges, took 17 s for one landmark of ~170 ranges (50 Hz odometry,
+  // 10 Hz ranges, a 60 m first lane).
+  const int64_t all_triples = static_cast<int64_t>(n) * (n - 1) * (n - 2) / 6;
+  const bool every_triple = all_triples <= std::max<int64_t>(1, max_triples);
+  const int64_t tries = every_triple ? all_triples : max_triples;
+  uint64_t state = 0x9e3779b97f4a7c15ULL;
+  auto next = [&state, n]() {
+    uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return static_cast<int>((z ^ (z >> 31)) % static_cast<uint64_t>(n));
+  };
   std::optional<Eigen::Vector2d> best;
-    // Consensus over every triple (deterministic): the exact 3-range solution (linear in
-    // (m_x, m_y, |m|^2)) refined on its inliers; the one with the most inliers (then the
-    // smallest inlier residual) wins.
-    int best_count = 0;
-    double best_cost = 0.0;
-    std::vector<bool> use(n);
-    for (int a = 0; a < n; ++a)
-      for (int b = a + 1; b < n; ++b)
-        for (int c = b + 1; c < n; ++c) {
-          Eigen::Matrix3d lhs;
-          Eigen::Vector3d rhs;
-          const int idx[3] = {a, b, c};
-          for (int r = 0; r < 3; ++r) {
-            lhs.row(r) << 2.0 * positions_m[idx[r]].x(), 2.0 * positions_m[idx[r]].y(), -1.0;
-            rhs[r] = positions_m[idx[r]].squaredNorm() - ranges_m[idx[r]] * ranges_m[idx[r]];
-          }
-          const Eigen::FullPivLU<Eigen::Matrix3d> lu(lhs);
-          if (!lu.isInvertible()) continue;
-          Eigen::Vector2d m = lu.solve(rhs).head<2>();
-          if (!m.allFinite()) continue;
-          for (int pass = 0; pass < 2; ++pass) {
-            for (int k = 0; k < n; ++k)
-              use[k] = std::abs((m - positions_m[k]).norm() - ranges_m[k]) < inlier_threshold_m;
-            if (std::count(use.begin(), use.end(), true) < 3) break;
-            m = refine(positions_m, ranges_m, use, m);
-          }
-          int count = 0;
-          double cost = 0.0;
-          for (int k = 0; k < n; ++k) {
-            const double e = (m - positions_m[k]).norm() - ranges_m[k];
-            if (std::abs(e) < inlier_threshold_m) {
-              ++count;
-              cost += e * e;
-            }
-          }
-          if (m.allFinite() && count >= 3 && (count > best_count || (count == best_count && cost < best_cost))) {
-            best = m;
-            best_count = count;
-            best_cost = cost;
-          }
-        }
+  int best_count = 0;
+  double best_cost = 0.0;
+  std::vector<bool> use(n);
+  int a = 0, b = 1, c = 1;
+  for (int64_t t = 0; t < tries; ++t) {
+    if (every_triple) {  // the next a < b < c in lexicographic order, from (0, 1, 2)
+      if (++c == n) {
+        if (++b == n - 1) b = ++a + 1;
+        c = b + 1;
+      }
+    } else {  // three distinct indices
+      a = next();
+      do b = next(); while (b == a);
+      do c = next(); while (c == a || c == b);
+    }
+    Eigen::Matrix3d lhs;
+    Eigen::Vector3d rhs;
+    const int idx[3] = {a, b, c};
+    for (int r = 0; r < 3; ++r) {
+      lhs.row(r) << 2.0 * positions_m[idx[r]].x(), 2.0 * positions_m[idx[r]].y(), -1.0;
+      rhs[r] = positions_m[idx[r]].squaredNorm() - ranges_m[idx[r]] * ranges_m[idx[r]];
+    }
+    const Eigen::FullPivLU<Eigen::Matrix3d> lu(lhs);
+    if (!lu.isInvertible()) continue;
+    Eigen::Vector2d m = lu.solve(rhs).head<2>();
+    if (!m.allFinite()) continue;
+    for (int pass = 0; pass < 2; ++pass) {
+      for (int k = 0; k < n; ++k) use[k] = std::abs((m - positions_m[k]).norm() - ranges_m[k]) < inlier_threshold_m;
+      if (std::count(use.begin(), use.end(), true) < 3) break;
+      m = refine(positions_m, ranges_m, use, m);
+    }
+    int count = 0;
+    double cost = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const double e = (m - positions_m[k]).norm() - ranges_m[k];
+      if (std::abs(e) < inlier_threshold_m) {
+        ++count;
+        cost += e * e;
+      }
+    }
+    if (m.allFinite() && count >= 3 && (count > best_count || (count == best_count && cost < best_cost))) {
+      best = m;
+      best_count = count;
+      best_cost = cost;
+    }
+  }
   if (!best) return false;
   (*beacon_m)[0] = best->x();
   (*beacon_m)[1] = best->y();

@@ -168,6 +168,40 @@ TEST(Multilateration, TriplesIgnoreLongOutliers) {
   EXPECT_FALSE(multilaterateTriples(positions, ranges, 0.0, &robust));
 }
 
+TEST(Multilateration, TriplesAreDrawnWhenThereAreTooManyToTry) {
+  // A landmark of 170 ranges (a 60 m lane and its turn at 10 Hz ranging), 40 % of them 2-40 m
+  // long: C(170, 3) = 804,440 triples, more than max_triples (20,000 by default), so 20,000 are
+  // drawn by the fixed sequence. The inliers are exact, so the consensus is exact either way.
+  const std::array<double, 2> beacon{30.0, 12.0};
+  std::vector<std::array<double, 2>> positions;
+  std::vector<double> ranges;
+  for (int k = 0; k < 170; ++k) {
+    positions.push_back(k < 150 ? std::array<double, 2>{0.4 * k, 0.0} : std::array<double, 2>{60.0, 0.25 * (k - 149)});
+    const double true_m = std::hypot(beacon[0] - positions.back()[0], beacon[1] - positions.back()[1]);
+    ranges.push_back(true_m + (k % 5 < 2 ? 2.0 + 0.23 * k : 0.0));
+  }
+  std::array<double, 2> drawn{}, again{}, every{};
+  ASSERT_TRUE(multilaterateTriples(positions, ranges, 1.0, &drawn));
+  ASSERT_TRUE(multilaterateTriples(positions, ranges, 1.0, &again));
+  ASSERT_TRUE(multilaterateTriples(positions, ranges, 1.0, &every, 1 << 30));
+  EXPECT_NEAR(std::hypot(drawn[0] - beacon[0], drawn[1] - beacon[1]), 0.0, 1e-6);
+  EXPECT_NEAR(std::hypot(every[0] - beacon[0], every[1] - beacon[1]), 0.0, 1e-6);
+  EXPECT_EQ(drawn, again);  // bit-identical
+  // At most max_triples triples: every one is tried, in order, and the answer is the one of
+  // trying every triple bit for bit (C(30, 3) = 4060; the last 30: the lane's end and the turn).
+  const std::vector<std::array<double, 2>> last30(positions.end() - 30, positions.end());
+  const std::vector<double> ranges30(ranges.end() - 30, ranges.end());
+  std::array<double, 2> capped{}, uncapped{};
+  ASSERT_TRUE(multilaterateTriples(last30, ranges30, 1.0, &capped, 4060));
+  ASSERT_TRUE(multilaterateTriples(last30, ranges30, 1.0, &uncapped, 1 << 30));
+  EXPECT_EQ(capped, uncapped);
+  // Drawn with a cap of 100 on 30 ranges: still three distinct ranges per triple (an exact
+  // answer needs a triple of distinct exact ranges).
+  std::array<double, 2> few{};
+  ASSERT_TRUE(multilaterateTriples(last30, ranges30, 1.0, &few, 100));
+  EXPECT_NEAR(std::hypot(few[0] - beacon[0], few[1] - beacon[1]), 0.0, 1e-6);
+}
+
 }  // namespace
 }  // namespace estimation
 }  // namespace roam

@@ -3,8 +3,14 @@
 // Target: < 5 s CPU for the whole replay (1,933 s of data: >= 400x real time).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
 #include "feed.hpp"
 #include "online_em_slam.hpp"
+#include "roam/estimation/multilateration.hpp"
 #include "sim.hpp"
 
 namespace {
@@ -39,6 +45,29 @@ void BM_PlazaSizedReplay(benchmark::State& state) {
   state.counters["steps"] = static_cast<double>(data.odometry.size());
 }
 BENCHMARK(BM_PlazaSizedReplay)->Arg(100)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->Iterations(1);
+
+// A landmark's initialisation by the consensus of triples (estimation::multilaterateTriples):
+// n ranges along a lane and its turn, 40 % of them 2-40 m long; range(1) = max_triples (0: the
+// default, 20,000; 1: every triple). At 50 Hz odometry and 10 Hz ranges a landmark first tried
+// after a 60 m lane holds ~170 ranges.
+void BM_LandmarkTriples(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  std::vector<std::array<double, 2>> positions;
+  std::vector<double> ranges;
+  for (int k = 0; k < n; ++k) {
+    const double s_m = 60.0 * k / n;
+    positions.push_back({std::min(s_m, 50.0), std::max(0.0, s_m - 50.0)});
+    ranges.push_back(std::hypot(30.0 - positions.back()[0], 12.0 - positions.back()[1]) + (k % 5 < 2 ? 2.0 + 0.23 * k : 0.0));
+  }
+  std::array<double, 2> beacon_m{};
+  for (auto _ : state) {
+    const bool solved = state.range(1) == 1 ? roam::estimation::multilaterateTriples(positions, ranges, 1.0, &beacon_m, 1 << 30)
+                                            : roam::estimation::multilaterateTriples(positions, ranges, 1.0, &beacon_m);
+    benchmark::DoNotOptimize(solved);
+  }
+  state.counters["error_m"] = std::hypot(beacon_m[0] - 30.0, beacon_m[1] - 12.0);
+}
+BENCHMARK(BM_LandmarkTriples)->Args({19, 0})->Args({100, 0})->Args({100, 1})->Args({170, 0})->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

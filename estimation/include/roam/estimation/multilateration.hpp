@@ -131,13 +131,17 @@ MultilaterationResult multilaterate(const std::vector<Sighting>& sightings, cons
 // Consensus of triples (deterministic): every triple of ranges gives the exact solution (linear
 // in (m_x, m_y, |m|^2)), refined by Gauss-Newton on the ranges within inlier_threshold_m of it
 // (twice); the one with the most such inliers (then the smallest inlier residual) wins. False
-// if none has 3 inliers. O(n^3) in the ranges: for the dozen-odd ranges of a landmark's
-// initialisation, where it holds ~half outliers (AUV echoes) that pull the linear start of the
-// robust solve. Online EM's landmark initialisation: measured against multilaterateRobust on
-// Plaza 1 from the start pose (seeds 1-3): 0.90/0.98/0.68 m against 1.08/1.10/1.11 m.
+// if none has 3 inliers. For the dozen-odd ranges of a landmark's initialisation, where it holds
+// ~half outliers (AUV echoes) that pull the linear start of the robust solve. Online EM's
+// landmark initialisation: measured against multilaterateRobust on Plaza 1 from the start pose
+// (seeds 1-3): 0.90/0.98/0.68 m against 1.08/1.10/1.11 m. Every triple is tried when there are
+// at most max_triples of them (19 ranges: 969), otherwise max_triples triples drawn by a fixed
+// sequence (bit-identical runs), O(max_triples n): a triple is all inliers with probability
+// w^3 for an inlier fraction w, so 1000 draws miss every clean triple with probability
+// (1 - w^3)^1000, under 1e-6 for w >= 0.25.
 bool multilaterateTriples(const std::vector<std::array<double, 2>>& positions_m,
                           const std::vector<double>& ranges_m, double inlier_threshold_m,
-                          std::array<double, 2>* beacon_m);
+                          std::array<double, 2>* beacon_m, int max_triples = 20000);
 
 }  // namespace estimation
 }  // namespace roam
