@@ -135,10 +135,10 @@ MultilaterationResult multilaterate(const std::vector<Sighting>& sightings, cons
 // ~half outliers (AUV echoes) that pull the linear start of the robust solve. Online EM's
 // landmark initialisation: measured against multilaterateRobust on Plaza 1 from the start pose
 // (seeds 1-3): 0.90/0.98/0.68 m against 1.08/1.10/1.11 m. Every triple is tried when there are
-// at most max_triples of them (19 ranges: 969), otherwise max_triples triples drawn by a fixed
-// sequence (bit-identical runs), O(max_triples n): a triple is all inliers with probability
-// w^3 for an inlier fraction w, so 1000 draws miss every clean triple with probability
-// (1 - w^3)^1000, under 1e-6 for w >= 0.25.
+// at most max_triples of them (50 ranges: 19,600), otherwise max_triples triples drawn by a
+// fixed sequence (bit-identical runs), O(max_triples n): a triple is all inliers with
+// probability w^3 for an inlier fraction w, so 20,000 draws miss every clean triple with
+// probability (1 - w^3)^20000, under 1e-6 for w >= 0.09.
 bool multilaterateTriples(const std::vector<std::array<double, 2>>& positions_m,
                           const std::vector<double>& ranges_m, double inlier_threshold_m,
                           std::array<double, 2>* beacon_m, int max_triples = 20000);
