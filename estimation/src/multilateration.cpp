@@ -239,6 +239,23 @@ Eigen::Vector2d refine(Eigen::Vector2d c, const std::vector<std::array<double, 2
   return c;
 }
 
+// A fixed pseudo-random sequence (splitmix64), so runs that draw from it are bit-identical.
+class FixedSequence {
+ public:
+  uint64_t next() {
+    uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+  // An index in [0, n).
+  template <typename Index>
+  Index index(Index n) { return static_cast<Index>(next() % static_cast<uint64_t>(n)); }
+
+ private:
+  uint64_t state_ = 0x9e3779b97f4a7c15ULL;
+};
+
 }  // namespace
 
 bool multilaterateConsensus(const std::vector<std::array<double, 2>>& positions_m,
@@ -252,20 +269,14 @@ bool multilaterateConsensus(const std::vector<std::array<double, 2>>& positions_
   Eigen::Vector2d best = Eigen::Vector2d::Zero();
   Score best_score;
   bool found = false;
-  uint64_t state = 0x9e3779b97f4a7c15ULL;  // fixed sequence: splitmix64
-  auto next = [&state]() {
-    uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  };
+  FixedSequence sequence;
   size_t i = 0, j = 1;
   for (size_t t = 0; t < tries; ++t) {
     if (every_pair) {
       if (t > 0 && ++j == n) j = ++i + 1;
     } else {
-      i = next() % n;
-      j = next() % (n - 1);
+      i = sequence.index(n);
+      j = sequence.index(n - 1);
       if (j >= i) ++j;
     }
     const Eigen::Vector2d a(positions_m[i][0], positions_m[i][1]), b(positions_m[j][0], positions_m[j][1]);
@@ -309,19 +320,13 @@ bool multilaterateTriples(const std::vector<std::array<double, 2>>& positions,
   // Consensus over the triples (deterministic): the exact 3-range solution (linear in
   // (m_x, m_y, |m|^2)) refined on its inliers; the one with the most inliers (then the smallest
   // inlier residual) wins. Every triple while there are at most max_triples, else max_triples
-  // drawn by a fixed sequence (splitmix64, as multilaterateConsensus): every triple, each scored
+  // drawn by the fixed sequence multilaterateConsensus draws its pairs by: every triple, each scored
   // and refined over all n ranges, took 17 s for one landmark of ~170 ranges (50 Hz odometry,
   // 10 Hz ranges, a 60 m first lane).
   const int64_t all_triples = static_cast<int64_t>(n) * (n - 1) * (n - 2) / 6;
   const bool every_triple = all_triples <= std::max<int64_t>(1, max_triples);
   const int64_t tries = every_triple ? all_triples : max_triples;
-  uint64_t state = 0x9e3779b97f4a7c15ULL;
-  auto next = [&state, n]() {
-    uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return static_cast<int>((z ^ (z >> 31)) % static_cast<uint64_t>(n));
-  };
+  FixedSequence sequence;
   std::optional<Eigen::Vector2d> best;
   int best_count = 0;
   double best_cost = 0.0;
@@ -334,9 +339,9 @@ bool multilaterateTriples(const std::vector<std::array<double, 2>>& positions,
         c = b + 1;
       }
     } else {  // three distinct indices
-      a = next();
-      do b = next(); while (b == a);
-      do c = next(); while (c == a || c == b);
+      a = sequence.index(n);
+      do b = sequence.index(n); while (b == a);
+      do c = sequence.index(n); while (c == a || c == b);
     }
     Eigen::Matrix3d lhs;
     Eigen::Vector3d rhs;

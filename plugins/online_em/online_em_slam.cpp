@@ -853,10 +853,7 @@ void OnlineEmSlam::finish() {
   // with the calibration as learned over the whole run, where a frame correction is still in
   // effect (a rigid fit that moves the start pose itself) or the learned bias is significant
   // (rerun_end_bias_sigmas: the particles turned with it until it was learned).
-  const double k = config_.rerun_end_bias_sigmas;
-  const bool bias_significant = k > 0.0 && std::isfinite(heading_rate_bias_sigma_rad_s_) &&
-                                std::abs(calibration_.heading_rate_bias_rad_s) >= k * heading_rate_bias_sigma_rad_s_;
-  if (recording_ && (frame_angle_rad_ != 0.0 || bias_significant)) rerun();
+  if (recording_ && (frame_angle_rad_ != 0.0 || biasSignificant(config_.rerun_end_bias_sigmas))) rerun();
   // Ranges later than the last step (or stamped at its time, after it) have no step to be
   // applied in: rejected, as the EKF does, so every range is counted once.
   setDiagnostic("ranges_after_last_odometry", static_cast<double>(queued_ranges_.size()));

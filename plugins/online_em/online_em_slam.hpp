@@ -227,6 +227,9 @@ class OnlineEmSlam : public Estimator {
   void setHeadingRateBias(double b_rad_s);
   bool bias_spread_drawn_ = false;  // the per-particle bias deviations drawn from their prior
   void correctFrame();
+  // |b| >= k sigma_b (k > 0; false while sigma_b is unknown): frame_bias_significance_sigmas,
+  // rerun_end_bias_sigmas.
+  bool biasSignificant(double k_sigmas) const;
   void applyFrameMotion(double angle_rad, const Eigen::Vector2d& translation_m);
   void rerun();
   void solveEarlyWindow();

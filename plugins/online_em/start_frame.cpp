@@ -58,9 +58,7 @@ void OnlineEmSlam::correctFrame() {
   // Or (frame_bias_significance_sigmas k > 0) when the bias itself is significant, |b| >= k sigma_b:
   // a bias of 0.002-0.005 rad/s turns a short window by less than that noise, yet rotates the
   // whole map over the run.
-  const double k = config_.frame_bias_significance_sigmas;
-  const bool bias_significant =
-      k > 0.0 && std::abs(calibration_.heading_rate_bias_rad_s) >= k * heading_rate_bias_sigma_rad_s_;
+  const bool bias_significant = biasSignificant(config_.frame_bias_significance_sigmas);
   // The heading the calibration turns by the window's end counts as well: the landmarks were
   // placed from the whole window, and a window closed early (a landmark placed once its mirror is
   // refuted) turns by b T while its least-squares rotation is only about b T / 2.
@@ -90,6 +88,11 @@ void OnlineEmSlam::correctFrame() {
   frame_angle_rad_ = angle_rad;
   frame_translation_m_ = translation_m;
   setDiagnostic("frame_correction_rad", frame_angle_rad_);
+}
+
+bool OnlineEmSlam::biasSignificant(double k_sigmas) const {
+  return k_sigmas > 0.0 && std::isfinite(heading_rate_bias_sigma_rad_s_) &&
+         std::abs(calibration_.heading_rate_bias_rad_s) >= k_sigmas * heading_rate_bias_sigma_rad_s_;
 }
 
 void OnlineEmSlam::applyFrameMotion(double angle_rad, const Eigen::Vector2d& translation_m) {
