@@ -245,6 +245,7 @@ void EkfSlam::advance(Step step, bool live) {
   step.path_size = path_.size();
   step.before_adaptation = adapt_;
   runStep(step, live);
+  if (!rerunMayStartAt(step.index)) step.before = EkfFilter{};
   if (live) acceptOdometry();
   history_.push_back(std::move(step));
   if (live && recoveryTrialDue()) decideRecoveryTrial();
@@ -254,6 +255,20 @@ void EkfSlam::advance(Step step, bool live) {
   // about to be freed) is made without them: a beacon pending that long is not about to enter.
   if (live) rerunWithCalibration(rerunHistoryExpiring());
   prune();
+}
+
+bool EkfSlam::rerunMayStartAt(int64_t step_index) const {
+  // A re-run starts from one step's snapshot and rewrites those after it: step 0 (the calibrated
+  // re-run and the early window's), a pending beacon's first buffered sighting (its
+  // initialisation; the first moves on to later sightings as the oldest expire), or the
+  // starvation trial's step. Any other step's snapshot is never read, so it is not kept: a
+  // 50 Hz run with 64 beacons pending for minutes kept a state and covariance (~0.3 MB) per step.
+  return step_index == 0 || step_index == last_sighting_step_ || (trial_.active && trial_.step == step_index);
+}
+
+size_t EkfSlam::historySnapshots() const {
+  return static_cast<size_t>(std::count_if(history_.begin(), history_.end(),
+                                           [](const Step& step) { return step.before.mean().size() > 0; }));
 }
 
 void EkfSlam::pushPose(SmootherNode node) {
@@ -369,6 +384,7 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
   const Eigen::MatrixXd& P = filter_.covariance();
   Sighting sighting;
   sighting.step = step_index;
+  last_sighting_step_ = step_index;
   sighting.utime = range.utime;
   sighting.x_m = x(EkfFilter::kX);
   sighting.y_m = x(EkfFilter::kY);
@@ -461,15 +477,14 @@ void EkfSlam::replayFrom(int64_t offset, int64_t first_step) {
   filter_ = entry->before;
   state_utime_ = entry->before_utime;
   truncatePath(entry->path_size);
-  // (While a trial holds the history with no beacon pending, only the first step's snapshot is
-  // kept: see prune.)
-  const bool sparse_snapshots = trial_.active && pending_.empty();
+  last_sighting_step_ = -1;  // the re-run's own sightings mark the snapshots it keeps
   for (auto it = entry; it != history_.end(); ++it) {
-    it->before = sparse_snapshots && it != entry && it->index != 0 ? EkfFilter{} : filter_;
+    it->before = filter_;
     it->before_utime = state_utime_;
     it->path_size = path_.size();
     it->before_adaptation = adapt_;
     runStep(*it, false);
+    if (it != entry && !rerunMayStartAt(it->index)) it->before = EkfFilter{};
   }
 }
 
@@ -540,6 +555,7 @@ void EkfSlam::reinitialiseFromStart() {
   history_.clear();
   filter_ = old.front().before;
   state_utime_ = old.front().before_utime;
+  last_sighting_step_ = -1;
   truncatePath(old.front().path_size);
   next_step_ = old.front().index;
   // A beacon still pending (a re-run at the end of input or as its history expires) is buffered
@@ -590,15 +606,6 @@ void EkfSlam::prune() {
   for (const auto& [id, buffer] : pending_) earliest = std::min(earliest, buffer.front().step);
   if (trial_.active) earliest = std::min(earliest, trial_.step);  // the trial's re-run starts there
   while (!history_.empty() && history_.front().index < earliest) history_.pop_front();
-  // A re-run reads only its first step's snapshot (a pending beacon's first sighting, the trial's
-  // step, or step 0) and rewrites the later ones. While a trial holds the history and no beacon
-  // is pending, the newest step can be none of those: its snapshot is released (and replayFrom
-  // keeps only its first), so a trial held for 600 s at 50 Hz with 64 beacons keeps its steps'
-  // odometry and ranges, not a state and covariance each (~0.3 MB): peak 10.5 GB -> 0.44 GB.
-  if (trial_.active && pending_.empty() && !history_.empty()) {
-    Step& newest = history_.back();
-    if (newest.index != trial_.step && newest.index != 0) newest.before = EkfFilter{};
-  }
 }
 
 Pose EkfSlam::currentPose(int64_t utime) const {

@@ -89,6 +89,10 @@ class EkfSlam : public Estimator {
     std::vector<Sighting> sightings;  // the ones the solve used
   };
   const std::vector<Initialisation>& initialisations() const { return initialisations_; }
+  // The history held for re-runs: its steps, and how many of them keep a state snapshot (a state
+  // and covariance each, the history's memory: rerunMayStartAt).
+  size_t historySteps() const { return history_.size(); }
+  size_t historySnapshots() const;
 
  private:
   struct Insert {
@@ -136,6 +140,7 @@ class EkfSlam : public Estimator {
   void insertSurveyed();
   void runStep(const Step& step, bool live);
   void advance(Step step, bool live);  // snapshot, runStep, keep in history_, initialise ready beacons
+  bool rerunMayStartAt(int64_t step_index) const;  // does the step's snapshot need keeping
   void handleRange(const Range& range, int64_t step_index, bool live);
   void initialiseReadyBeacons();
   std::vector<Sighting> consensusSightings(const std::vector<Sighting>& sightings, const RangeBiasPrior& bias) const;
@@ -195,6 +200,7 @@ class EkfSlam : public Estimator {
   int64_t next_step_ = 0;
   std::vector<Range> waiting_;  // ranges for the next odometry step
   std::deque<Step> history_;    // steps since the first sighting of a pending beacon
+  int64_t last_sighting_step_ = -1;  // the step that last buffered a range to a pending beacon
   std::map<int, std::vector<Sighting>> pending_;
   // Live ranges to each beacon not yet initialised: counted accepted when it enters the state,
   // rejected at the end (with the check that kept it out) if it never does.

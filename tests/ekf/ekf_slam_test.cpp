@@ -368,6 +368,47 @@ TEST(EkfSlam, RepeatRunsAreBitIdentical) {
   EXPECT_EQ(a.filter().mean(), b.filter().mean());
 }
 
+TEST(EkfSlam, TheReRunHistoryKeepsASnapshotOnlyWhereAReRunCanStart) {
+  // Start pose, 50 Hz odometry, 16 beacons ranged round robin at 5 Hz, 30 % of the ranges outliers:
+  // beacons stay pending for seconds, holding the history (every step since the first pending
+  // sighting). A re-run reads the snapshot (state and covariance) of step 0, of a pending
+  // beacon's sighting or of the starvation trial's step only, so at most one step in ten (those
+  // with a range) keeps one, plus those two.
+  sim::SimConfig c;
+  c.seed = 5;
+  c.dt_s = 0.02;
+  c.num_steps = 6000;
+  c.area_width_m = 40.0;
+  c.area_height_m = 30.0;
+  c.num_beacons = 16;
+  c.schedule = sim::RangeSchedule::kRoundRobin;
+  c.range_rate_hz = 5.0;
+  c.range_sigma_m = 0.3;
+  c.odo_distance_sigma_rel = 0.02;
+  c.odo_heading_sigma_rad = 0.00095;
+  c.outlier_fraction = 0.3;
+  c.outlier_min_m = -30.0;
+  c.outlier_max_m = 30.0;
+  const sim::SimRun run = sim::simulate(c);
+  EkfSlam ekf{EkfConfig{}};
+  ekf.setInitialPose(run.start);
+  size_t most_steps = 0, most_snapshots = 0;
+  size_t r = 0;
+  for (const Odometry& odometry : run.odometry) {
+    while (r < run.ranges.size() && run.ranges[r].utime < odometry.utime) ekf.addRange(run.ranges[r++]);
+    ekf.addOdometry(odometry);
+    most_steps = std::max(most_steps, ekf.historySteps());
+    most_snapshots = std::max(most_snapshots, ekf.historySnapshots());
+  }
+  ekf.finish();
+  std::printf("history: up to %zu steps held, %zu snapshots kept, %zu beacons initialised\n", most_steps, most_snapshots,
+              ekf.initialisations().size());
+  EXPECT_GE(most_steps, 1000u);  // the history is held (so the bound below can fail)
+  EXPECT_GE(most_snapshots, 10u);
+  EXPECT_LE(most_snapshots, most_steps / 10 + 2);
+  EXPECT_GE(ekf.initialisations().size(), 4u);  // re-runs from pending beacons' sightings were made
+}
+
 TEST(EkfConfig, BadValuesNameTheKey) {
   auto parse = [](KeyValues values) {
     EkfConfig config;
