@@ -374,19 +374,11 @@ TEST(EkfSlam, TheReRunHistoryKeepsASnapshotOnlyWhereAReRunCanStart) {
   // sighting). A re-run reads the snapshot (state and covariance) of step 0, of a pending
   // beacon's sighting or of the starvation trial's step only, so at most one step in ten (those
   // with a range) keeps one, plus those two.
-  sim::SimConfig c;
-  c.seed = 5;
+  sim::SimConfig c = sim::nlos30LawnMowerWorld(5, 6000);
   c.dt_s = 0.02;
-  c.num_steps = 6000;
-  c.area_width_m = 40.0;
-  c.area_height_m = 30.0;
   c.num_beacons = 16;
-  c.schedule = sim::RangeSchedule::kRoundRobin;
   c.range_rate_hz = 5.0;
-  c.range_sigma_m = 0.3;
-  c.odo_distance_sigma_rel = 0.02;
-  c.odo_heading_sigma_rad = 0.00095;
-  c.outlier_fraction = 0.3;
+  c.odo_heading_sigma_rad = 0.00095;  // the same heading noise per second as at 5 Hz
   c.outlier_min_m = -30.0;
   c.outlier_max_m = 30.0;
   const sim::SimRun run = sim::simulate(c);
