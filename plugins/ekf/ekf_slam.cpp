@@ -240,12 +240,7 @@ void EkfSlam::advance(Step step, bool live) {
   // One new step, live (addOdometry) or on the fresh re-run (reinitialiseFromStart): the
   // snapshot a roll-back returns to, the step, and the beacons it made ready. Only a live step
   // counts as accepted and may start the calibrated re-run (which, being one, runs once).
-  step.before = filter_;
-  step.before_utime = state_utime_;
-  step.path_size = path_.size();
-  step.before_adaptation = adapt_;
-  runStep(step, live);
-  if (!rerunMayStartAt(step.index)) step.before = EkfFilter{};
+  runSnapshotted(&step, live, false);
   if (live) acceptOdometry();
   history_.push_back(std::move(step));
   if (live && recoveryTrialDue()) decideRecoveryTrial();
@@ -255,6 +250,18 @@ void EkfSlam::advance(Step step, bool live) {
   // about to be freed) is made without them: a beacon pending that long is not about to enter.
   if (live) rerunWithCalibration(rerunHistoryExpiring());
   prune();
+}
+
+void EkfSlam::runSnapshotted(Step* step, bool live, bool rerun_start) {
+  // The step with the snapshot a re-run from it restores, kept only where one may start
+  // (rerunMayStartAt; always for the re-run's own first step). A step without ranges buffers no
+  // sighting and starts no trial, so the state and covariance are not even copied for it.
+  step->before = rerun_start || step->index == 0 || !step->ranges.empty() ? filter_ : EkfFilter{};
+  step->before_utime = state_utime_;
+  step->path_size = path_.size();
+  step->before_adaptation = adapt_;
+  runStep(*step, live);
+  if (!rerun_start && !rerunMayStartAt(step->index)) step->before = EkfFilter{};
 }
 
 bool EkfSlam::rerunMayStartAt(int64_t step_index) const {
@@ -478,14 +485,7 @@ void EkfSlam::replayFrom(int64_t offset, int64_t first_step) {
   state_utime_ = entry->before_utime;
   truncatePath(entry->path_size);
   last_sighting_step_ = -1;  // the re-run's own sightings mark the snapshots it keeps
-  for (auto it = entry; it != history_.end(); ++it) {
-    it->before = filter_;
-    it->before_utime = state_utime_;
-    it->path_size = path_.size();
-    it->before_adaptation = adapt_;
-    runStep(*it, false);
-    if (it != entry && !rerunMayStartAt(it->index)) it->before = EkfFilter{};
-  }
+  for (auto it = entry; it != history_.end(); ++it) runSnapshotted(&*it, false, it == entry);
 }
 
 void EkfSlam::rerunWithCalibration(bool pending_may_not_wait) {

@@ -140,6 +140,7 @@ class EkfSlam : public Estimator {
   void insertSurveyed();
   void runStep(const Step& step, bool live);
   void advance(Step step, bool live);  // snapshot, runStep, keep in history_, initialise ready beacons
+  void runSnapshotted(Step* step, bool live, bool rerun_start);  // runStep, keeping the snapshot where needed
   bool rerunMayStartAt(int64_t step_index) const;  // does the step's snapshot need keeping
   void handleRange(const Range& range, int64_t step_index, bool live);
   void initialiseReadyBeacons();
