@@ -178,7 +178,8 @@ std::vector<Sighting> EkfSlam::consensusSightings(const std::vector<Sighting>& s
   // The range scale is one unknown shared by every range of the beacon, not noise per range: it
   // is tried as hypotheses across its prior (the filter's scale +-1 and +-2 sigma), each range's
   // tolerance carrying only the grid's own spread (sigma / sqrt(12) of the range); the hypothesis
-  // with the most agreeing ranges wins (ties: the one nearer the prior). Widening every range by
+  // with the most agreeing ranges wins (ties: the one nearer the prior; once every range agrees,
+  // no other is tried). Widening every range by
   // the scale's full prior instead (10 % of a 50 m NLOS range is 5 m, and an NLOS range is the
   // long one) let most outliers agree: with half the ranges NLOS no beacon ever entered.
   if (static_cast<int>(sightings.size()) < config_.init_min_ranges) return sightings;
@@ -189,7 +190,7 @@ std::vector<Sighting> EkfSlam::consensusSightings(const std::vector<Sighting>& s
   const std::array<double, 5> steps = {0.0, -1.0, 1.0, -2.0, 2.0};
   const int hypotheses = bias.scale_sigma > 0.0 ? static_cast<int>(steps.size()) : 1;
   estimation::ConsensusMultilateration best;
-  for (int h = 0; h < hypotheses; ++h) {
+  for (int h = 0; h < hypotheses && best.inliers < static_cast<int>(sightings.size()); ++h) {
     const double scale = bias.scale + steps[h] * bias.scale_sigma;
     if (scale <= 0.0) continue;
     std::vector<double> ranges, tolerances;
