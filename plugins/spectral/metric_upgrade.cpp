@@ -88,7 +88,13 @@ BeaconUpgrade upgradeWithBeacons(const Eigen::MatrixXd& half_sq,
       best_s = s;
     }
   }
-  if (!std::isfinite(best_cost)) throw std::runtime_error("anchor = beacons: no positive state scale");
+  // No positive root: the learned states fit no metric map through the surveyed beacons. That is
+  // the data (windows that outliers bent: half the ranges NLOS), not the estimator, so it is a
+  // refusal, and a longer window is tried first (spectral_solver.cpp), as for the start pose.
+  if (!std::isfinite(best_cost))
+    throw InsufficientData(
+        "anchor = beacons: no positive state scale fits the surveyed beacons (the learned states do not fit "
+        "the ranges: outliers, or too few ranges per window)");
 
   BeaconUpgrade out;
   out.state_scale = best_s;

@@ -47,7 +47,8 @@ struct BeaconUpgrade {
 };
 
 // (a). surveyed[n] is beacon n's surveyed position, or nullopt. Throws std::runtime_error if
-// fewer than 4 surveyed beacons or if they are (nearly) collinear.
+// fewer than 4 surveyed beacons or if they are (nearly) collinear (the configuration), and
+// InsufficientData if no positive state scale fits them (the data).
 BeaconUpgrade upgradeWithBeacons(const Eigen::MatrixXd& half_sq,
                                  const std::vector<std::optional<Eigen::Vector2d>>& surveyed);
 

@@ -249,5 +249,32 @@ TEST(SpectralRefusal, AuvLikeSparseRunPublishesNothingAndSaysWhy) {
   }
 }
 
+TEST(SpectralRefusal, HalfTheRangesNlosWithSurveyedBeaconsIsANoSolutionNotAFailure) {
+  // The seed sweep's nlos50 kind, seed 1009: half the ranges NLOS (2-40 m long), surveyed
+  // beacons, rank 7. The learned states fit no positive state scale against the surveyed
+  // beacons; that used to throw out of finish() as a failure of the estimator ("no positive
+  // state scale", roam-run exit 1). It is a property of the data, like rank 4's refusal on the
+  // same run (its windows' median residual is an outlier's): no solution, the reason in STATUS,
+  // nothing published, in batch and online modes.
+  sim::SimConfig c = sim::nlos30LawnMowerWorld(1009, 3000);
+  c.outlier_fraction = 0.5;
+  const sim::SimRun run = sim::simulate(c);
+  for (const bool online : {false, true}) {
+    for (const int rank : {4, 7}) {
+      SpectralConfig config;
+      config.rank = rank;
+      if (online) config.mode = SpectralMode::kOnline;
+      SpectralSlam slam(config);
+      feed(slam, run, true);
+      ASSERT_NO_THROW(slam.finish()) << "rank " << rank;
+      EXPECT_EQ(slam.state(), EstimatorState::kFinished) << "rank " << rank;
+      EXPECT_FALSE(slam.solution().has_value()) << "rank " << rank;
+      EXPECT_EQ(slam.lastRejection().rfind("data: ", 0), 0u) << slam.lastRejection();
+      std::printf("NLOS 50 %%, seed 1009, rank %d%s: %s\n", rank, online ? ", online" : "", slam.lastRejection().c_str());
+      EXPECT_TRUE(slam.takePoses().empty());
+    }
+  }
+}
+
 }  // namespace
 }  // namespace roam::spectral
