@@ -316,6 +316,18 @@ TEST(EkfCalibration, AuvSparseOutliersBeaconsBeatDeadReckoningOnEverySeedAndRepe
   }
 }
 
+// Feeds a run from its start pose and scores the smoothed TRAJECTORY (full-path mean, m); NaN
+// (which fails every bound) if the estimator has none.
+double smoothedError(const sim::SimRun& run, EkfSlam& ekf) {
+  test::feed(run, ekf);
+  Path smoothed;
+  if (!ekf.trajectory(true, &smoothed)) {
+    ADD_FAILURE() << "no smoothed trajectory";
+    return std::nan("");
+  }
+  return meanError(smoothed, run.ground_truth);
+}
+
 // The NLOS 30 % lawn mower with drifting odometry: 0.005 rad/s of gyro bias, odometry 3 % short.
 sim::SimRun nlosDriftingOdometryRun(uint64_t seed) {
   sim::SimConfig world = sim::nlos30LawnMowerWorld(seed, 3000);
@@ -381,10 +393,7 @@ TEST(EkfCalibration, NlosDriftingOdometryFreshRerunHoldsTheBiasNearTheFirstPass)
   for (const uint64_t seed : {408, 409}) {
     const sim::SimRun run = nlosDriftingOdometryRun(seed);
     EkfSlam ekf{EkfConfig{}};
-    test::feed(run, ekf);
-    Path smoothed;
-    ASSERT_TRUE(ekf.trajectory(true, &smoothed));
-    const double error_m = meanError(smoothed, run.ground_truth);
+    const double error_m = smoothedError(run, ekf);
     std::printf("NLOS 30 %%, drifting odometry, seed %d, start pose: trajectory mean error %.2f m (dead reckoning %.2f m)\n",
                 static_cast<int>(seed), error_m, deadReckoningError(run));
     EXPECT_EQ(ekf.diagnostics().at("calibration_reruns_reinitialised"), 1.0) << "seed " << seed;
@@ -403,10 +412,7 @@ TEST(EkfCalibration, NlosDriftingOdometryFreshRerunKeepsTheFirstPassOutliersOut)
   // 1.27 m (its rest is the 3 % odometry scale the range scale absorbs). Bound 1.5 m.
   const sim::SimRun run = nlosDriftingOdometryRun(301);
   EkfSlam ekf{EkfConfig{}};
-  test::feed(run, ekf);
-  Path smoothed;
-  ASSERT_TRUE(ekf.trajectory(true, &smoothed));
-  const double error_m = meanError(smoothed, run.ground_truth);
+  const double error_m = smoothedError(run, ekf);
   std::printf("NLOS 30 %%, drifting odometry, seed 301, start pose: trajectory mean error %.2f m (dead reckoning %.2f m)\n",
               error_m, deadReckoningError(run));
   EXPECT_EQ(ekf.diagnostics().at("calibration_reruns_reinitialised"), 1.0);
@@ -453,10 +459,7 @@ TEST(EkfCalibration, HalfTheRangesNlosStillInitialiseEveryBeaconFromThePose) {
     world.outlier_fraction = 0.5;
     const sim::SimRun run = sim::simulate(world);
     EkfSlam ekf{EkfConfig{}};
-    test::feed(run, ekf);
-    Path smoothed;
-    ASSERT_TRUE(ekf.trajectory(true, &smoothed));
-    const double error_m = meanError(smoothed, run.ground_truth);
+    const double error_m = smoothedError(run, ekf);
     std::printf("NLOS 50 %%, seed %d, start pose: trajectory mean error %.2f m (dead reckoning %.2f m)\n",
                 static_cast<int>(seed), error_m, deadReckoningError(run));
     EXPECT_EQ(ekf.filter().beacons().size(), 6u) << "seed " << seed;
@@ -477,10 +480,7 @@ TEST(EkfCalibration, NlosThirtyPercentStartPoseNarrowArcIsNotPlacedByOneRange) {
   // mrad about the start against 50, 0.10 m after a rigid fit). Bound 1.4 m, beacon 2 within 1.5 m.
   const sim::SimRun run = sim::simulate(sim::nlos30LawnMowerWorld(301, 3000));
   EkfSlam ekf{EkfConfig{}};
-  test::feed(run, ekf);
-  Path smoothed;
-  ASSERT_TRUE(ekf.trajectory(true, &smoothed));
-  const double error_m = meanError(smoothed, run.ground_truth);
+  const double error_m = smoothedError(run, ekf);
   std::printf("NLOS 30 %%, seed 301, start pose: trajectory mean error %.2f m (dead reckoning %.2f m)\n", error_m,
               deadReckoningError(run));
   EXPECT_LT(error_m, 1.4);
