@@ -114,11 +114,17 @@ class Receiver {
 
 }  // namespace
 
+std::string liveBusUrl(const std::string& url) {
+  if (url.rfind("udpm://", 0) != 0 || url.find("recv_buf_size=") != std::string::npos) return url;
+  return url + (url.find('?') == std::string::npos ? "?" : "&") + "recv_buf_size=4194304";
+}
+
 int runLive(const RunConfig& config, std::vector<EstimatorSlot> slots, LogSink* log,
             const LiveOptions& options, const std::atomic<bool>& stop, std::unique_ptr<Host>* host) {
-  lcm::LCM bus(config.input);
+  const std::string url = liveBusUrl(config.input);
+  lcm::LCM bus(url);
   if (!bus.good()) {
-    std::fprintf(stderr, "roam-run: error: cannot open the LCM bus '%s'\n", config.input.c_str());
+    std::fprintf(stderr, "roam-run: error: cannot open the LCM bus '%s'\n", url.c_str());
     return 2;
   }
   BusSink bus_sink(&bus);
@@ -138,7 +144,7 @@ int runLive(const RunConfig& config, std::vector<EstimatorSlot> slots, LogSink* 
         config.beacons_channel, config.ground_truth_channel}) {
     bus.subscribe(channel, &Receiver::onMessage, &receiver);
   }
-  std::fprintf(stderr, "roam-run: live on %s (Ctrl-C to finish)\n", config.input.c_str());
+  std::fprintf(stderr, "roam-run: live on %s (Ctrl-C to finish)\n", url.c_str());
   const auto start = std::chrono::steady_clock::now();
   auto last_flush = start;
   while (!stop.load()) {

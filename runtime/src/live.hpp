@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "config.hpp"
@@ -19,6 +20,14 @@ struct LiveOptions {
   double duration_s = 0.0;  // 0: until a signal
   bool verbose = false;
 };
+
+// The URL roam-run opens for a live input: a udpm:// URL without recv_buf_size gets
+// recv_buf_size=4194304 (4 MB, which the kernel caps at net.core.rmem_max). A UDP multicast
+// socket receives every datagram on its port, roam-run's own outputs included: a final
+// TRAJECTORY of Plaza 1 is ~200 datagrams in one burst, and behind it the kernel's default
+// 208 KB buffer dropped odometry and ranges whenever roam-run was slow to read (49 of 13186
+// inputs on a loaded two-core host). Other URLs are returned unchanged.
+std::string liveBusUrl(const std::string& url);
 
 // Returns 0, or 2 if the bus cannot be opened (nothing has run then). `host` receives the
 // host so the caller can print the summary.
