@@ -179,27 +179,28 @@ std::vector<Sighting> EkfSlam::consensusSightings(const std::vector<Sighting>& s
   // is tried as hypotheses across its prior (the filter's scale +-1 and +-2 sigma), each range's
   // tolerance carrying only the grid's own spread (sigma / sqrt(12) of the range); the hypothesis
   // with the most agreeing ranges wins (ties: the one nearer the prior; once every range agrees,
-  // no other is tried). Widening every range by
-  // the scale's full prior instead (10 % of a 50 m NLOS range is 5 m, and an NLOS range is the
-  // long one) let most outliers agree: with half the ranges NLOS no beacon ever entered.
+  // no other is tried). Widening every range by the scale's full prior instead (10 % of a 50 m
+  // NLOS range is 5 m, and an NLOS range is the long one) let most outliers agree: with half the
+  // ranges NLOS no beacon ever entered.
   if (static_cast<int>(sightings.size()) < config_.init_min_ranges) return sightings;
   std::vector<std::array<double, 2>> positions;
-  for (const Sighting& s : sightings) positions.push_back({s.x_m, s.y_m});
+  std::vector<double> tolerances;  // the same for every hypothesis
   const double gate = std::sqrt(gate_range_chi2_);
   const double grid_sigma_per_m = bias.scale_sigma / std::sqrt(12.0);
+  for (const Sighting& s : sightings) {
+    positions.push_back({s.x_m, s.y_m});
+    const double var = s.sigma_m * s.sigma_m + s.position_var_m2 + std::pow(grid_sigma_per_m * s.range_m, 2) +
+                       bias.offset_sigma_m * bias.offset_sigma_m;
+    tolerances.push_back(gate * std::sqrt(var));
+  }
   const std::array<double, 5> steps = {0.0, -1.0, 1.0, -2.0, 2.0};
   const int hypotheses = bias.scale_sigma > 0.0 ? static_cast<int>(steps.size()) : 1;
   estimation::ConsensusMultilateration best;
   for (int h = 0; h < hypotheses && best.inliers < static_cast<int>(sightings.size()); ++h) {
     const double scale = bias.scale + steps[h] * bias.scale_sigma;
     if (scale <= 0.0) continue;
-    std::vector<double> ranges, tolerances;
-    for (const Sighting& s : sightings) {
-      ranges.push_back((s.range_m - bias.offset_m) / scale);
-      const double var = s.sigma_m * s.sigma_m + s.position_var_m2 + std::pow(grid_sigma_per_m * s.range_m, 2) +
-                         bias.offset_sigma_m * bias.offset_sigma_m;
-      tolerances.push_back(gate * std::sqrt(var));
-    }
+    std::vector<double> ranges;
+    for (const Sighting& s : sightings) ranges.push_back((s.range_m - bias.offset_m) / scale);
     estimation::ConsensusMultilateration consensus;
     if (estimation::multilaterateConsensus(positions, ranges, tolerances, &consensus) && consensus.inliers > best.inliers)
       best = std::move(consensus);

@@ -455,9 +455,7 @@ TEST(EkfCalibration, HalfTheRangesNlosStillInitialiseEveryBeaconFromThePose) {
   // scale, one unknown per beacon, is now tried as hypotheses across its prior: measured
   // 1.05 / 0.23 m, every beacon in. Bound: every beacon, and under 0.75 x dead reckoning.
   for (const uint64_t seed : {301, 302}) {
-    sim::SimConfig world = sim::nlos30LawnMowerWorld(seed, 3000);
-    world.outlier_fraction = 0.5;
-    const sim::SimRun run = sim::simulate(world);
+    const sim::SimRun run = sim::simulate(sim::nlos50LawnMowerWorld(seed, 3000));
     EkfSlam ekf{EkfConfig{}};
     const double error_m = smoothedError(run, ekf);
     std::printf("NLOS 50 %%, seed %d, start pose: trajectory mean error %.2f m (dead reckoning %.2f m)\n",

@@ -256,9 +256,7 @@ TEST(SpectralRefusal, HalfTheRangesNlosWithSurveyedBeaconsIsANoSolutionNotAFailu
   // state scale", roam-run exit 1). It is a property of the data, like rank 4's refusal on the
   // same run (its windows' median residual is an outlier's): no solution, the reason in STATUS,
   // nothing published, in batch and online modes.
-  sim::SimConfig c = sim::nlos30LawnMowerWorld(1009, 3000);
-  c.outlier_fraction = 0.5;
-  const sim::SimRun run = sim::simulate(c);
+  const sim::SimRun run = sim::simulate(sim::nlos50LawnMowerWorld(1009, 3000));
   for (const bool online : {false, true}) {
     for (const int rank : {4, 7}) {
       SpectralConfig config;

@@ -124,4 +124,8 @@ TEST(SimWorlds, LongLanesWorldIsTheSeedSweepsLongLanesKind) {
   expectSeedSweepKindIsWorld("long-lanes", roam::sim::longLanesWorld(7, 1500), "sim::longLanesWorld(7, 1500)");
 }
 
+TEST(SimWorlds, Nlos50WorldIsTheSeedSweepsNlos50Kind) {
+  expectSeedSweepKindIsWorld("nlos50", roam::sim::nlos50LawnMowerWorld(7, 3000), "sim::nlos50LawnMowerWorld(7, 3000)");
+}
+
 }  // namespace

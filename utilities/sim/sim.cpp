@@ -230,6 +230,12 @@ SimConfig nlos30LawnMowerWorld(uint64_t seed, int num_steps) {
   return c;
 }
 
+SimConfig nlos50LawnMowerWorld(uint64_t seed, int num_steps) {
+  SimConfig c = nlos30LawnMowerWorld(seed, num_steps);
+  c.outlier_fraction = 0.5;
+  return c;
+}
+
 SimConfig longLanesWorld(uint64_t seed, int num_steps) {
   SimConfig c = nlos30LawnMowerWorld(seed, num_steps);
   c.area_width_m = 60.0;

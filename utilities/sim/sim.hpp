@@ -158,6 +158,9 @@ SimConfig slowUwbWorld(uint64_t seed, int num_steps);
 // 0.3 m range noise, 30 % of the ranges 2-40 m too long, 2 % odometry and 0.003 rad heading noise.
 SimConfig nlos30LawnMowerWorld(uint64_t seed, int num_steps);
 
+// utilities/seed-sweep's nlos50: the same with half the ranges NLOS.
+SimConfig nlos50LawnMowerWorld(uint64_t seed, int num_steps);
+
 // utilities/seed-sweep's long-lanes (1500 steps): the same sensors on a 60 x 40 m lawn mower with
 // clean ranges and 0.005 rad/s of gyro bias, so no landmark can be placed before the first 60 m
 // lane ends (its mirror images fit alike).
