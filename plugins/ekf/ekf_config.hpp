@@ -82,6 +82,10 @@ struct EkfConfig {
   // Starvation: after this many ranges to known beacons gated in a row, the filter is taken as
   // lost and its position variance is widened by the smallest of their squared innovations.
   int recover_after_gated = 8;
+  // ... or after this many ranges to one beacon gated in a row (none applied between) whose
+  // innovations agree within the gate's width (sqrt(chi2) x the range's sigma): outliers scatter
+  // over tens of metres, a lost filter's ranges repeat one innovation (0: never).
+  int recover_consistent_gated = 4;
   // ... and the widening is put on trial: the filter runs on without it while the next this many
   // ranges to known beacons are scored, then the steps since are re-run with it, and whichever
   // run explains those ranges better (outlier-mixture likelihood) is kept. With half the ranges

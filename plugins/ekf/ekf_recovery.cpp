@@ -32,10 +32,13 @@
 namespace roam {
 namespace ekf {
 
-void EkfSlam::noteGated(double innovation_m, int64_t step_index, bool live) {
-  if (config_.recover_after_gated == 0) return;
-  adapt_.min_gated_innovation_m = adapt_.gated_in_row == 0 ? innovation_m : std::min(adapt_.min_gated_innovation_m, innovation_m);
-  if (++adapt_.gated_in_row < config_.recover_after_gated) return;
+void EkfSlam::noteGated(int beacon_id, double innovation_m, double sigma_m, int64_t step_index, bool live) {
+  const double magnitude_m = std::abs(innovation_m);
+  adapt_.min_gated_innovation_m = adapt_.gated_in_row == 0 ? magnitude_m : std::min(adapt_.min_gated_innovation_m, magnitude_m);
+  ++adapt_.gated_in_row;
+  const bool consistent = consistentlyGated(beacon_id, innovation_m, sigma_m);
+  const bool starved = config_.recover_after_gated > 0 && adapt_.gated_in_row >= config_.recover_after_gated;
+  if (!starved && !consistent) return;
   if (live && !finishing_ && config_.recover_trial_ranges > 0) {
     // Live: on trial. While one is open, further runs leave the running filter as it is.
     adapt_.gated_in_row = 0;
@@ -44,6 +47,36 @@ void EkfSlam::noteGated(double innovation_m, int64_t step_index, bool live) {
   }
   widenStarved();
   if (trial_rerun_) trial_.recording = true;  // the re-run scores from its first widening on
+}
+
+bool EkfSlam::consistentlyGated(int beacon_id, double innovation_m, double sigma_m) {
+  // A beacon's ranges gated in a row that repeat one innovation: the filter is off, not the
+  // ranges. With outliers spread over a span L the newest agrees with an earlier one by chance
+  // with probability ~2 x width / L (NLOS U(2, 40) m at sigma 0.5 m: ~0.09; an AUV's echoes
+  // over 250 m: ~0.02), and k - 1 of them also need k gated in a row: at 30 % NLOS about
+  // 0.3^4 x 0.09^3 ~ 5e-6 per range for k = 4. The widening is by the newest innovation, so
+  // that range would pass next time; a chance trigger is what the trial is for. Surveyed
+  // beacons only: one placed from the ranges that keeps gating one innovation is more likely
+  // off itself (its position came from the same path), and widening the pose does not move it
+  // (30 % and 50 % NLOS from the start pose: a beacon a few metres off triggered it a dozen
+  // times a run).
+  if (config_.recover_consistent_gated == 0 || !isSurveyed(beacon_id)) return false;
+  std::vector<double>& innovations = adapt_.gated_innovations_m[beacon_id];
+  innovations.push_back(innovation_m);
+  const size_t keep = 2 * static_cast<size_t>(config_.recover_consistent_gated);
+  if (innovations.size() > keep) innovations.erase(innovations.begin());
+  const double width_m = std::sqrt(gate_range_chi2_) * sigma_m;
+  const auto agreeing = std::count_if(innovations.begin(), innovations.end(),
+                                      [&](double other) { return std::abs(other - innovation_m) <= width_m; });
+  if (agreeing < config_.recover_consistent_gated) return false;
+  adapt_.min_gated_innovation_m = std::abs(innovation_m);
+  adapt_.gated_innovations_m.erase(beacon_id);
+  return true;
+}
+
+bool EkfSlam::isSurveyed(int beacon_id) const {
+  if (config_.anchor != EkfConfig::Anchor::kBeacons) return false;
+  return std::any_of(surveyed_.begin(), surveyed_.end(), [&](const Beacon& beacon) { return beacon.id == beacon_id; });
 }
 
 void EkfSlam::widenStarved() {

@@ -375,11 +375,12 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
     if (result == EkfFilter::Update::kApplied) {
       map_dirty_ = true;
       adapt_.gated_in_row = 0;
+      adapt_.gated_innovations_m.erase(range.beacon_id);
       adapt_.motion_noise_scale = std::max(1.0, adapt_.motion_noise_scale * config_.motion_noise_decay);
       adaptRangeNoise(nis);
       countRange(Verdict::kApplied, live, recording);
     } else if (result == EkfFilter::Update::kGated) {
-      noteGated(std::abs(range.range_m - filter_.predictRange(range.beacon_id, nullptr)), step_index, live);
+      noteGated(range.beacon_id, range.range_m - filter_.predictRange(range.beacon_id, nullptr), sigma_m, step_index, live);
       countRange(Verdict::kGated, live, recording);
     } else {
       countRange(Verdict::kDegenerate, live, recording);

@@ -105,6 +105,8 @@ class EkfSlam : public Estimator {
   struct Adaptation {
     int gated_in_row = 0;  // ranges to known beacons gated since the last applied one
     double min_gated_innovation_m = 0.0;
+    // Each beacon's gated innovations (range - predicted, m) since its last applied range.
+    std::map<int, std::vector<double>> gated_innovations_m;
     double motion_noise_scale = 1.0;  // multiplies the odometry covariance (starvation raises it)
     double range_noise_scale = 1.0;   // multiplies the range variance (adaptRangeNoise)
     double nis_average = 1.0;         // running average of applied ranges' NIS
@@ -176,7 +178,9 @@ class EkfSlam : public Estimator {
   Eigen::Matrix3d scaledMotionNoise(const Eigen::Matrix3d& Q) const;
   EkfFilter::CalibrationPrior calibrationPrior() const;
   // The starvation recovery (ekf_recovery.cpp).
-  void noteGated(double innovation_m, int64_t step_index, bool live);
+  void noteGated(int beacon_id, double innovation_m, double sigma_m, int64_t step_index, bool live);
+  bool consistentlyGated(int beacon_id, double innovation_m, double sigma_m);
+  bool isSurveyed(int beacon_id) const;  // anchor = beacons and in BEACONS
   void widenStarved();
   void startRecoveryTrial(int64_t step_index);
   void scoreRange(double innovation_m, double innovation_var_m2);

@@ -120,6 +120,10 @@ TEST(SimWorlds, GoatsLikeWorldIsTheSeedSweepsAuvGoatsKind) {
   expectSeedSweepKindIsWorld("auv-goats", roam::sim::goatsLikeWorld(7, 210), "sim::goatsLikeWorld(7, 210)");
 }
 
+TEST(SimWorlds, AuvLikeWorldIsTheSeedSweepsAuvSparseKind) {
+  expectSeedSweepKindIsWorld("auv-sparse", roam::sim::auvLikeWorld(7, 500), "sim::auvLikeWorld(7, 500)");
+}
+
 TEST(SimWorlds, LongLanesWorldIsTheSeedSweepsLongLanesKind) {
   expectSeedSweepKindIsWorld("long-lanes", roam::sim::longLanesWorld(7, 1500), "sim::longLanesWorld(7, 1500)");
 }
