@@ -21,6 +21,11 @@
 // lost scores its inliers at its own small S, while a B that widened onto an outlier scores them
 // at the floor. The live counts (accepted, gated) of the scored ranges wait for the verdict and
 // follow the run that is kept; POSE messages already sent are not revised, TRAJECTORY is.
+//
+// A lost filter need not gate eight in a row: a beacon in the direction it is right in, or an
+// outlier that slips through, breaks the run while the other beacons' inliers are gated with one
+// innovation each. So a surveyed beacon's ranges gated in a row that agree on one innovation
+// start the same trial (recover_consistent_gated, consistentlyGated).
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
