@@ -28,12 +28,7 @@ struct Outcome {
   int64_t accepted = 0, rejected = 0;
 };
 
-Outcome runWithSurveyedBeacons(const sim::SimRun& run, int trial_ranges,
-                               int consistent_gated = EkfConfig{}.recover_consistent_gated) {
-  EkfConfig config;
-  config.anchor = EkfConfig::Anchor::kBeacons;
-  config.recover_trial_ranges = trial_ranges;
-  config.recover_consistent_gated = consistent_gated;
+Outcome runEkf(const sim::SimRun& run, const EkfConfig& config) {
   EkfSlam ekf(config);
   test::feed(run, ekf, true);
   Outcome outcome;
@@ -43,6 +38,20 @@ Outcome runWithSurveyedBeacons(const sim::SimRun& run, int trial_ranges,
   outcome.accepted = ekf.rangesAccepted();
   outcome.rejected = ekf.rangesRejected();
   return outcome;
+}
+
+EkfConfig surveyedBeacons(int trial_ranges = EkfConfig{}.recover_trial_ranges,
+                          int consistent_gated = EkfConfig{}.recover_consistent_gated) {
+  EkfConfig config;
+  config.anchor = EkfConfig::Anchor::kBeacons;
+  config.recover_trial_ranges = trial_ranges;
+  config.recover_consistent_gated = consistent_gated;
+  return config;
+}
+
+Outcome runWithSurveyedBeacons(const sim::SimRun& run, int trial_ranges,
+                               int consistent_gated = EkfConfig{}.recover_consistent_gated) {
+  return runEkf(run, surveyedBeacons(trial_ranges, consistent_gated));
 }
 
 TEST(EkfRecovery, AWideningOnAFilterThatWasNotLostIsDeclined) {
@@ -87,19 +96,14 @@ TEST(EkfRecovery, AWideningThatFindsALostFilterItsWayBackIsKept) {
   sim::SimRun run = sim::simulate(sim::auvLikeWorld(301, 500));
   for (size_t k = 250; k < 260; ++k) run.odometry[k].forward_m = run.odometry[k].lateral_m = 0.0;
   auto errorAfterGlitch = [&](int recover_after_gated, int trial_ranges, int consistent_gated = 0) {
-    EkfConfig config;
-    config.anchor = EkfConfig::Anchor::kBeacons;
+    EkfConfig config = surveyedBeacons(trial_ranges, consistent_gated);
     config.recover_after_gated = recover_after_gated;
-    config.recover_trial_ranges = trial_ranges;
-    config.recover_consistent_gated = consistent_gated;
-    EkfSlam ekf(config);
-    test::feed(run, ekf, true);
-    Path path;
-    EXPECT_TRUE(ekf.trajectory(true, &path));
+    const Outcome outcome = runEkf(run, config);
+    const Path& path = outcome.trajectory;
     double sum = 0.0;
     for (size_t k = 300; k < path.size(); ++k)
       sum += std::hypot(path[k].x_m - run.ground_truth[k].x_m, path[k].y_m - run.ground_truth[k].y_m);
-    return std::make_pair(sum / static_cast<double>(path.size() - 300), ekf.diagnostics());
+    return std::make_pair(sum / static_cast<double>(path.size() - 300), outcome.diagnostics);
   };
   const auto [never_m, never] = errorAfterGlitch(0, 0);
   const auto [at_once_m, at_once] = errorAfterGlitch(EkfConfig{}.recover_after_gated, 0);
@@ -126,23 +130,14 @@ TEST(EkfRecovery, ABeaconWhoseGatedRangesRepeatOneInnovationFindsALostFilterItsW
   // with it, dead reckoning 19.04 m.
   const sim::SimRun run = sim::simulate(sim::auvLikeWorld(324, 500));
   const double dr_m = deadReckoningError(run);
-  auto errorWith = [&](int consistent_gated) {
-    EkfConfig config;
-    config.anchor = EkfConfig::Anchor::kBeacons;
-    config.recover_consistent_gated = consistent_gated;
-    EkfSlam ekf(config);
-    test::feed(run, ekf, true);
-    Path path;
-    EXPECT_TRUE(ekf.trajectory(true, &path));
-    return std::make_pair(meanError(path, run.ground_truth), ekf.diagnostics());
-  };
-  const auto [without_m, without] = errorWith(0);
-  const auto [with_m, with] = errorWith(EkfConfig{}.recover_consistent_gated);
+  const Outcome without = runEkf(run, surveyedBeacons(EkfConfig{}.recover_trial_ranges, 0));
+  const Outcome with = runEkf(run, surveyedBeacons());
+  const double without_m = without.error_m, with_m = with.error_m;
   std::printf("AUV-like seed 324, beacons: without the consistency trigger %.2f m, with it %.2f m, dead reckoning %.2f m\n",
               without_m, with_m, dr_m);
   EXPECT_GT(without_m, 1.25 * dr_m);  // the failure it is for: the test can fail
   EXPECT_LT(with_m, 0.3 * dr_m);
-  EXPECT_GE(with.at("starvation_recoveries"), 1.0);
+  EXPECT_GE(with.diagnostics.at("starvation_recoveries"), 1.0);
 }
 
 TEST(EkfRecovery, BeaconsPlacedFromTheRangesNeverSetOffTheConsistencyTrigger) {
@@ -150,16 +145,9 @@ TEST(EkfRecovery, BeaconsPlacedFromTheRangesNeverSetOffTheConsistencyTrigger) {
   // half the ranges NLOS, seed 307, set it off a dozen times (0.27 -> 1.53 m) before it was kept
   // to surveyed beacons. The start-pose run is the one without it, bit for bit.
   const sim::SimRun run = sim::simulate(sim::nlos50LawnMowerWorld(307, 3000));
-  auto trajectoryWith = [&](int consistent_gated) {
-    EkfConfig config;
-    config.recover_consistent_gated = consistent_gated;
-    EkfSlam ekf(config);
-    test::feed(run, ekf, true);
-    Path path;
-    EXPECT_TRUE(ekf.trajectory(true, &path));
-    return path;
-  };
-  const Path without = trajectoryWith(0), with = trajectoryWith(EkfConfig{}.recover_consistent_gated);
+  EkfConfig off;
+  off.recover_consistent_gated = 0;
+  const Path without = runEkf(run, off).trajectory, with = runEkf(run, EkfConfig{}).trajectory;
   ASSERT_EQ(without.size(), with.size());
   for (size_t k = 0; k < with.size(); ++k) {
     EXPECT_EQ(without[k].x_m, with[k].x_m);
