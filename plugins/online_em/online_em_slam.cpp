@@ -64,6 +64,7 @@ OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
 void OnlineEmSlam::start(const Pose& pose) {
   started_ = true;
   start_pose_ = pose;
+  if (dead_reckoned_.empty() && fallbackEnabled()) dead_reckoned_.push_back(pose);
   last_utime_ = pose.utime;
   particles_.x_m.setConstant(pose.x_m);
   particles_.y_m.setConstant(pose.y_m);
@@ -180,6 +181,7 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
     return;
   }
   if (!replaying_) acceptOdometry();
+  if (!replaying_) recordDeadReckoning(odometry);
   const int n = config_.num_particles;
   const int64_t step_start_utime = last_utime_;
   const double dt_s = 1e-6 * static_cast<double>(odometry.utime - step_start_utime);
@@ -224,6 +226,7 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
   std::vector<Range> later;
   for (const Range& r : queued_ranges_) (r.utime <= odometry.utime ? ranges : later).push_back(r);
   queued_ranges_.swap(later);
+  if (!replaying_) recordDeadReckonedRanges(ranges);
 
   Eigen::ArrayXd log_weight = Eigen::ArrayXd::Zero(n);
   std::vector<StepObservation> observations;
@@ -670,7 +673,8 @@ void OnlineEmSlam::mixtureMStep() {
   const double s0 = config_.mixture_sigma0;
   const double variance = (n * mean_inlier_e2_ + n0 * s0 * s0) / (n * mean_inlier_ + n0);
   if (!std::isfinite(w1) || !std::isfinite(variance)) return;
-  mixture_weight0_ = 1.0 - std::clamp(w1, 1.0 - config_.mixture_weight0, 0.6);
+  learned_outlier_weight_ = w1;
+  mixture_weight0_ = 1.0 - std::clamp(w1, 1.0 - config_.mixture_weight0, kMaxOutlierWeight);
   if (config_.estimate_inlier_sigma) inlier_sigma0_ = std::max(s0, std::sqrt(variance));
   observation_.setInlierScale(inlier_sigma0_);
   setDiagnostic("mixture_outlier_weight", 1.0 - mixture_weight0_);
@@ -869,11 +873,16 @@ void OnlineEmSlam::finish() {
   }
   pending_live_ranges_.clear();
   setDiagnostic("landmarks_never_initialised", static_cast<double>(never_initialised));
+  if (fallbackEnabled() && learned_outlier_weight_ >= kMaxOutlierWeight) fallBackToDeadReckoning();
   setState(EstimatorState::kFinished);
 }
 
 bool OnlineEmSlam::trajectory(bool force, Path* path) {
   if (path_.empty() || (!force && state() != EstimatorState::kFinished)) return false;
+  if (fallen_back_) {
+    *path = dead_reckoned_;
+    return true;
+  }
   *path = config_.smoothing(config_.anchor) ? smoothedPath() : path_;
   return true;
 }

@@ -313,8 +313,24 @@ class OnlineEmSlam : public Estimator {
   double max_range_m_ = 0.0;
   double mixture_weight0_ = 0.8, inlier_sigma0_ = 1.0;
   double mean_outlier_ = 0.0, mean_inlier_e2_ = 0.0, mean_inlier_ = 0.0;
+  double learned_outlier_weight_ = 0.0;  // w1 before its bound (kMaxOutlierWeight)
   int64_t mixture_ranges_ = 0;
   Path path_;  // filtered means, one per step (the start pose first)
+  // Dead-reckoning fallback (fallback_deadreckoning, dead_reckoning_fallback.cpp): the odometry
+  // composed from the start pose (uncalibrated: nothing the ranges say is trusted there), and
+  // each range applied with the index of the dead-reckoned pose of its step.
+  struct DeadReckonedRange {
+    size_t pose = 0;
+    int beacon_id = 0;
+    double range_m = 0.0, sigma_m = 0.0;
+  };
+  bool fallbackEnabled() const;
+  void recordDeadReckoning(const Odometry& odometry);
+  void recordDeadReckonedRanges(const std::vector<Range>& ranges);
+  void fallBackToDeadReckoning();
+  Path dead_reckoned_;
+  std::vector<DeadReckonedRange> dead_reckoned_ranges_;
+  bool fallen_back_ = false;
   // The step from path_[k] to path_[k + 1]: its calibrated increment and noise (smoothedPath).
   std::vector<estimation::PoseTransition> transitions_;
   size_t smooth_first_ = 0;  // poses before it are not smoothed (the early window's solve)

@@ -1,0 +1,79 @@
+// Dead-reckoning fallback (fallback_deadreckoning; anchor = start_pose): the filter's solution is
+// not trusted where, at the end of the run, its learned outlier weight w1 sits at its bound
+// (kMaxOutlierWeight): fewer than 1 - w1 of the ranges fit the map. From the start pose no beacon
+// is fixed, the map is fitted to the same ranges, and below the breakdown point of a robust
+// estimator (one half) a wrong basin that explains another minority fits as well. Published
+// instead: dead reckoning from the start pose (roam's shared motion model, uncalibrated, as the
+// deadreckoning plugin and spectral + batch's fallback), each landmark multilaterated from it by
+// the shared consensus of triples on all its ranges (the initialisation's inlier band).
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <map>
+#include <vector>
+
+#include "online_em_slam.hpp"
+#include "roam/estimation/motion_model.hpp"
+#include "roam/estimation/multilateration.hpp"
+
+namespace roam {
+namespace online_em {
+
+bool OnlineEmSlam::fallbackEnabled() const {
+  return config_.fallback_deadreckoning && config_.anchor == OnlineEmConfig::Anchor::kStartPose && config_.estimate_mixture &&
+         config_.indicators == OnlineEmConfig::Indicators::kMarginal;
+}
+
+void OnlineEmSlam::recordDeadReckoning(const Odometry& odometry) {
+  if (!fallbackEnabled() || dead_reckoned_.empty()) return;
+  dead_reckoned_.push_back(estimation::step(dead_reckoned_.back(), odometry));
+}
+
+void OnlineEmSlam::recordDeadReckonedRanges(const std::vector<Range>& ranges) {
+  if (!fallbackEnabled() || dead_reckoned_.empty()) return;
+  for (const Range& r : ranges)
+    dead_reckoned_ranges_.push_back({dead_reckoned_.size() - 1, r.beacon_id, r.range_m, r.sigma_m});
+}
+
+void OnlineEmSlam::fallBackToDeadReckoning() {
+  fallen_back_ = true;
+  setDiagnostic("dead_reckoning_fallback", 1.0);
+  setDiagnostic("odometry_distance_scale", 1.0);
+  setDiagnostic("heading_rate_bias_rad_s", 0.0);
+  setDiagnostic("range_scale", 1.0);
+  setDiagnostic("range_offset_m", 0.0);
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "published dead reckoning: its learned outlier weight ended at its bound (%.2f): under %.0f %% of "
+                "the ranges fit a map placed from those same ranges, so the solution is not trusted "
+                "(fallback_deadreckoning)",
+                kMaxOutlierWeight, 100.0 * (1.0 - kMaxOutlierWeight));
+  note(text);
+  std::map<int, std::vector<std::array<double, 2>>> points;
+  std::map<int, std::vector<double>> ranges_m;
+  std::map<int, double> sigma_m;
+  for (const DeadReckonedRange& r : dead_reckoned_ranges_) {
+    const Pose& p = dead_reckoned_[r.pose];
+    points[r.beacon_id].push_back({p.x_m, p.y_m});
+    ranges_m[r.beacon_id].push_back(r.range_m);
+    sigma_m.emplace(r.beacon_id, r.sigma_m > 0.0 ? r.sigma_m : config_.range_sigma_m);
+  }
+  Map map;
+  const double gate = config_.init_outlier_gate_sigmas;
+  for (const auto& [id, positions] : points) {
+    std::array<double, 2> beacon_m{0.0, 0.0};
+    const double band_m = std::max(1.0, gate * sigma_m[id]);
+    const bool solved = gate > 0.0 ? estimation::multilaterateTriples(positions, ranges_m[id], band_m, &beacon_m)
+                                   : estimation::multilaterateLinear(positions, ranges_m[id], &beacon_m);
+    if (!solved) continue;
+    Beacon b;
+    b.id = id;
+    b.x_m = beacon_m[0];
+    b.y_m = beacon_m[1];
+    map.push_back(b);
+  }
+  emitMap(map);
+}
+
+}  // namespace online_em
+}  // namespace roam
