@@ -26,7 +26,9 @@ bool OnlineEmSlam::fallbackEnabled() const {
 
 void OnlineEmSlam::recordDeadReckoning(const Odometry& odometry) {
   if (!fallbackEnabled() || dead_reckoned_.empty()) return;
-  dead_reckoned_.push_back(estimation::step(dead_reckoned_.back(), odometry));
+  dead_reckoned_pose_ = estimation::step(dead_reckoned_pose_, odometry);
+  const Pose& p = dead_reckoned_pose_;
+  dead_reckoned_.push_back({p.utime, p.x_m, p.y_m, p.heading_rad});
 }
 
 void OnlineEmSlam::recordDeadReckonedRanges(const std::vector<Range>& ranges) {
@@ -53,7 +55,7 @@ void OnlineEmSlam::fallBackToDeadReckoning() {
   std::map<int, std::vector<double>> ranges_m;
   std::map<int, double> sigma_m;
   for (const DeadReckonedRange& r : dead_reckoned_ranges_) {
-    const Pose& p = dead_reckoned_[r.pose];
+    const DeadReckonedPose& p = dead_reckoned_[r.pose];
     points[r.beacon_id].push_back({p.x_m, p.y_m});
     ranges_m[r.beacon_id].push_back(r.range_m);
     sigma_m.emplace(r.beacon_id, r.sigma_m > 0.0 ? r.sigma_m : config_.range_sigma_m);

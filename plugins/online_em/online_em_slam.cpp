@@ -64,7 +64,10 @@ OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
 void OnlineEmSlam::start(const Pose& pose) {
   started_ = true;
   start_pose_ = pose;
-  if (dead_reckoned_.empty() && fallbackEnabled()) dead_reckoned_.push_back(pose);
+  if (dead_reckoned_.empty() && fallbackEnabled()) {
+    dead_reckoned_pose_ = pose;
+    dead_reckoned_.push_back({pose.utime, pose.x_m, pose.y_m, pose.heading_rad});
+  }
   last_utime_ = pose.utime;
   particles_.x_m.setConstant(pose.x_m);
   particles_.y_m.setConstant(pose.y_m);
@@ -880,7 +883,15 @@ void OnlineEmSlam::finish() {
 bool OnlineEmSlam::trajectory(bool force, Path* path) {
   if (path_.empty() || (!force && state() != EstimatorState::kFinished)) return false;
   if (fallen_back_) {
-    *path = dead_reckoned_;
+    path->clear();
+    for (const DeadReckonedPose& p : dead_reckoned_) {
+      Pose pose;
+      pose.utime = p.utime;
+      pose.x_m = p.x_m;
+      pose.y_m = p.y_m;
+      pose.heading_rad = p.heading_rad;
+      path->push_back(pose);
+    }
     return true;
   }
   *path = config_.smoothing(config_.anchor) ? smoothedPath() : path_;

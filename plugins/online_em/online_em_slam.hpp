@@ -328,7 +328,13 @@ class OnlineEmSlam : public Estimator {
   void recordDeadReckoning(const Odometry& odometry);
   void recordDeadReckonedRanges(const std::vector<Range>& ranges);
   void fallBackToDeadReckoning();
-  Path dead_reckoned_;
+  // One per step (32 bytes, not a Pose's 104: the fallback is rare and the run may be long).
+  struct DeadReckonedPose {
+    int64_t utime = 0;
+    double x_m = 0.0, y_m = 0.0, heading_rad = 0.0;
+  };
+  Pose dead_reckoned_pose_;  // the latest, composed by estimation::step
+  std::vector<DeadReckonedPose> dead_reckoned_;
   std::vector<DeadReckonedRange> dead_reckoned_ranges_;
   bool fallen_back_ = false;
   // The step from path_[k] to path_[k + 1]: its calibrated increment and noise (smoothedPath).
