@@ -37,6 +37,20 @@ void OnlineEmSlam::recordDeadReckonedRanges(const std::vector<Range>& ranges) {
     dead_reckoned_ranges_.push_back({dead_reckoned_.size() - 1, r.beacon_id, r.range_m, r.sigma_m});
 }
 
+Path OnlineEmSlam::deadReckonedPath() const {
+  Path path;
+  path.reserve(dead_reckoned_.size());
+  for (const DeadReckonedPose& p : dead_reckoned_) {
+    Pose pose;
+    pose.utime = p.utime;
+    pose.x_m = p.x_m;
+    pose.y_m = p.y_m;
+    pose.heading_rad = p.heading_rad;
+    path.push_back(pose);
+  }
+  return path;
+}
+
 void OnlineEmSlam::fallBackToDeadReckoning() {
   fallen_back_ = true;
   setDiagnostic("dead_reckoning_fallback", 1.0);

@@ -882,19 +882,10 @@ void OnlineEmSlam::finish() {
 
 bool OnlineEmSlam::trajectory(bool force, Path* path) {
   if (path_.empty() || (!force && state() != EstimatorState::kFinished)) return false;
-  if (fallen_back_) {
-    path->clear();
-    for (const DeadReckonedPose& p : dead_reckoned_) {
-      Pose pose;
-      pose.utime = p.utime;
-      pose.x_m = p.x_m;
-      pose.y_m = p.y_m;
-      pose.heading_rad = p.heading_rad;
-      path->push_back(pose);
-    }
-    return true;
-  }
-  *path = config_.smoothing(config_.anchor) ? smoothedPath() : path_;
+  if (fallen_back_)
+    *path = deadReckonedPath();
+  else
+    *path = config_.smoothing(config_.anchor) ? smoothedPath() : path_;
   return true;
 }
 

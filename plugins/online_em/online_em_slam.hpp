@@ -101,6 +101,11 @@
 // mixture, and replace the map, the window's path, the particles' frame and the landmark
 // statistics where the ranges refute the dead-reckoned path (likelihood-ratio gain >= gate^2).
 //
+// Dead-reckoning fallback (fallback_deadreckoning, anchor = start_pose; dead_reckoning_fallback.cpp):
+// where the learned outlier weight w1 ends the run at its bound (kMaxOutlierWeight), fewer than
+// 1 - w1 of the ranges fit a map fitted to those same ranges, below the breakdown point; the
+// TRAJECTORY is then the odometry composed from the start pose, the map multilaterated from it.
+//
 // Published trajectory (smooth_trajectory, off by default): POSE streams the filtered cloud's
 // weighted mean; the TRAJECTORY at the end may be that path smoothed by a Rauch-Tung-Striebel
 // backward pass (roam/estimation/pose_smoother.hpp) over the cloud's Gaussian summary
@@ -328,6 +333,7 @@ class OnlineEmSlam : public Estimator {
   void recordDeadReckoning(const Odometry& odometry);
   void recordDeadReckonedRanges(const std::vector<Range>& ranges);
   void fallBackToDeadReckoning();
+  Path deadReckonedPath() const;  // the published TRAJECTORY once fallen back
   // One per step (32 bytes, not a Pose's 104: the fallback is rare and the run may be long).
   struct DeadReckonedPose {
     int64_t utime = 0;

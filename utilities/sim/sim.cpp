@@ -377,6 +377,13 @@ SimRun simulate(const SimConfig& c) {
   const std::map<int, double> offsets_m = beaconOffsets(c, run.beacons);
   if (!offsets_m.empty())
     for (Range& r : run.ranges) r.range_m = std::max(r.range_m + offsets_m.at(r.beacon_id), 1e-3);
+  const std::map<int, std::array<double, 2>> survey_m = beaconSurveyErrors(c, run.beacons);
+  for (Beacon& b : run.beacons) {
+    const auto found = survey_m.find(b.id);
+    if (found == survey_m.end()) continue;
+    b.x_m += found->second[0];
+    b.y_m += found->second[1];
+  }
   if (!c.range_gaps.empty()) {
     auto in_gap = [&](const Range& r) {
       const double t_s = static_cast<double>(r.utime - run.start.utime) * 1e-6;
@@ -395,6 +402,18 @@ std::map<int, double> beaconOffsets(const SimConfig& c, const Map& beacons) {
   // repeat the run's first noise draws.
   return beaconOffsets(c.beacon_offset_seed != 0 ? c.beacon_offset_seed : c.seed ^ 0xbf58476d1ce4e5b9ULL,
                        c.beacon_offset_min_m, c.beacon_offset_max_m, beacons);
+}
+
+std::map<int, std::array<double, 2>> beaconSurveyErrors(const SimConfig& c, const Map& beacons) {
+  std::map<int, std::array<double, 2>> errors_m;
+  if (!(c.beacon_survey_sigma_m > 0.0)) return errors_m;
+  std::mt19937_64 rng(c.seed ^ 0x94d049bb133111ebULL);
+  std::normal_distribution<double> normal(0.0, c.beacon_survey_sigma_m);
+  for (const Beacon& beacon : beacons) {
+    const double dx = normal(rng);
+    errors_m[beacon.id] = {dx, normal(rng)};
+  }
+  return errors_m;
 }
 
 std::map<int, double> beaconOffsets(uint64_t stream_seed, double min_m, double max_m, const Map& beacons) {

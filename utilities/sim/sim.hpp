@@ -15,6 +15,9 @@
 // o_b is beacon b's own offset (a transponder's turn-around delay, an anchor's antenna delay),
 // |o_b| uniform in [beacon_offset_min_m, beacon_offset_max_m] with a random sign, drawn from its
 // own stream and added to every range to b last, so a run without offsets is otherwise the same.
+// The published beacons may carry a survey error (beacon_survey_sigma_m): ranges are made from the
+// true positions, BEACONS gives them displaced, so an estimator anchored on them must not trust
+// them to centimetres. Dataset::beacons (and so roam-eval's beacon error) are the published ones.
 // A standing start (hold_s): the vehicle stands still for the first hold_s seconds (zero true
 // steps; the odometry still carries its heading noise and gyro bias, ranges are still taken),
 // then drives its path; num_steps counts both.
@@ -22,6 +25,7 @@
 // is drawn, so the rest of the run is identical, bit for bit, to the same seed without gaps.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -104,6 +108,11 @@ struct SimConfig {
   double beacon_offset_min_m = 0.0;
   double beacon_offset_max_m = 0.0;
   uint64_t beacon_offset_seed = 0;  // the offsets' stream (0: derived from seed, apart from the run's)
+  // Survey error: the published beacon positions (BEACONS, Dataset::beacons) are the true ones
+  // plus N(0, beacon_survey_sigma_m^2) on each axis, drawn from their own stream after every
+  // range is made from the true positions, so the run is otherwise the same. An acoustic
+  // transponder dropped from a ship and surveyed from it is known to metres (0: exact).
+  double beacon_survey_sigma_m = 0.0;
 
   bool bearing = false;
   double bearing_sigma_rad = 0.0;
@@ -121,6 +130,11 @@ SimRun simulate(const SimConfig& config);
 std::map<int, double> beaconOffsets(const SimConfig& config, const Map& beacons);
 // The same draw from the stream seeded with stream_seed: |o_b| ~ U(min_m, max_m), random sign.
 std::map<int, double> beaconOffsets(uint64_t stream_seed, double min_m, double max_m, const Map& beacons);
+
+// The survey errors simulate() adds to the published beacons (beacon id -> (dx, dy), m; empty
+// with sigma 0): from their own std::mt19937_64 (seed-derived, apart from the run's and the
+// offsets' streams), per beacon in order, x then y.
+std::map<int, std::array<double, 2>> beaconSurveyErrors(const SimConfig& config, const Map& beacons);
 
 // Parses "START_S:DURATION_S" (e.g. "120:30"); throws std::invalid_argument naming the problem
 // (not two numbers, start < 0, duration <= 0).

@@ -96,6 +96,9 @@ int main(int argc, char** argv) {
       ("beacon-offset-max", po::value(&c.beacon_offset_max_m)->default_value(c.beacon_offset_max_m),
        "... and at most this (m; random sign per beacon, added to every range to it, as an acoustic "
        "transponder's delay: GOATS' are 1-2 m; 0: none)")
+      ("beacon-survey-sigma", po::value(&c.beacon_survey_sigma_m)->default_value(c.beacon_survey_sigma_m),
+       "survey error of the published beacons: N(0, sigma^2) m on each axis (ranges are to the true "
+       "positions; 0: exact)")
       ("bearing", po::bool_switch(&c.bearing), "also measure the robot-relative bearing")
       ("bearing-sigma", po::value(&c.bearing_sigma_rad)->default_value(c.bearing_sigma_rad), "rad");
   // clang-format on
@@ -121,6 +124,8 @@ int main(int argc, char** argv) {
     require(c.range_rate_hz > 0, "--range-rate: expected > 0");
     require(c.beacon_offset_min_m >= 0 && c.beacon_offset_min_m <= c.beacon_offset_max_m,
             "--beacon-offset-min: expected 0 <= --beacon-offset-min <= --beacon-offset-max");
+    require(c.beacon_survey_sigma_m >= 0 && std::isfinite(c.beacon_survey_sigma_m),
+            "--beacon-survey-sigma: expected a finite number >= 0");
     for (const std::string& gap : range_gaps) {
       try {
         c.range_gaps.push_back(roam::sim::parseRangeGap(gap));
