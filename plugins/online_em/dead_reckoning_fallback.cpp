@@ -1,11 +1,14 @@
-// Dead-reckoning fallback (fallback_deadreckoning; anchor = start_pose): the filter's solution is
-// not trusted where, at the end of the run, its learned outlier weight w1 sits at its bound
-// (kMaxOutlierWeight): fewer than 1 - w1 of the ranges fit the map. From the start pose no beacon
-// is fixed, the map is fitted to the same ranges, and below the breakdown point of a robust
-// estimator (one half) a wrong basin that explains another minority fits as well. Published
-// instead: dead reckoning from the start pose (roam's shared motion model, uncalibrated, as the
-// deadreckoning plugin and spectral + batch's fallback), each landmark multilaterated from it by
-// the shared consensus of triples on all its ranges (the initialisation's inlier band).
+// Dead-reckoning fallback (fallback_deadreckoning): the filter's solution is not trusted where, at
+// the end of the run, its learned outlier weight w1 sits at its bound (kMaxOutlierWeight): fewer
+// than 1 - w1 of the ranges fit the path and map. From the start pose no beacon is fixed, the map
+// is fitted to the same ranges, and below the breakdown point of a robust estimator (one half) a
+// wrong basin that explains another minority fits as well. With surveyed beacons the map is held
+// to the survey, so it is the path that no longer fits: a cloud that fell behind the vehicle
+// scores its inliers as outliers and nothing pulls it back (README "Round 20"). Published instead:
+// dead reckoning from the start pose (roam's shared motion model, uncalibrated, as the
+// deadreckoning plugin and spectral + batch's fallback); from the start pose each landmark is
+// multilaterated from it by the shared consensus of triples on all its ranges (the
+// initialisation's inlier band), with surveyed beacons the map stays the survey's.
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -20,8 +23,7 @@ namespace roam {
 namespace online_em {
 
 bool OnlineEmSlam::fallbackEnabled() const {
-  return config_.fallback_deadreckoning && config_.anchor == OnlineEmConfig::Anchor::kStartPose && config_.estimate_mixture &&
-         config_.indicators == OnlineEmConfig::Indicators::kMarginal;
+  return config_.fallback_deadreckoning && config_.estimate_mixture && config_.indicators == OnlineEmConfig::Indicators::kMarginal;
 }
 
 void OnlineEmSlam::recordDeadReckoning(const Odometry& odometry) {
@@ -32,7 +34,8 @@ void OnlineEmSlam::recordDeadReckoning(const Odometry& odometry) {
 }
 
 void OnlineEmSlam::recordDeadReckonedRanges(const std::vector<Range>& ranges) {
-  if (!fallbackEnabled() || dead_reckoned_.empty()) return;
+  // Only the start pose's fallback multilaterates its map from them.
+  if (!fallbackEnabled() || dead_reckoned_.empty() || config_.anchor != OnlineEmConfig::Anchor::kStartPose) return;
   for (const Range& r : ranges)
     dead_reckoned_ranges_.push_back({dead_reckoned_.size() - 1, r.beacon_id, r.range_m, r.sigma_m});
 }
@@ -58,13 +61,16 @@ void OnlineEmSlam::fallBackToDeadReckoning() {
   setDiagnostic("heading_rate_bias_rad_s", 0.0);
   setDiagnostic("range_scale", 1.0);
   setDiagnostic("range_offset_m", 0.0);
+  const bool surveyed = config_.anchor == OnlineEmConfig::Anchor::kBeacons;
   char text[320];
   std::snprintf(text, sizeof text,
                 "published dead reckoning: its learned outlier weight ended at its bound (%.2f): under %.0f %% of "
-                "the ranges fit a map placed from those same ranges, so the solution is not trusted "
-                "(fallback_deadreckoning)",
-                kMaxOutlierWeight, 100.0 * (1.0 - kMaxOutlierWeight));
+                "the ranges fit %s, so the solution is not trusted (fallback_deadreckoning)",
+                kMaxOutlierWeight, 100.0 * (1.0 - kMaxOutlierWeight),
+                surveyed ? "its path to the surveyed beacons (the filter lost the vehicle)" : "a map placed from those same ranges");
   note(text);
+  // With surveyed beacons the map is the survey's (held to it by beacon_prior_sigma_m): it stays.
+  if (surveyed) return;
   std::map<int, std::vector<std::array<double, 2>>> points;
   std::map<int, std::vector<double>> ranges_m;
   std::map<int, double> sigma_m;

@@ -69,7 +69,7 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
               "start_pose: at the end of input, re-run when no re-run was made and |bias| >= this many sigmas (0: off)")
       .min(0.0);
   options.add("fallback_deadreckoning", &c->fallback_deadreckoning,
-              "start_pose: publish dead reckoning (with the reason) where the learned outlier weight ends at its bound");
+              "publish dead reckoning (with the reason) where the learned outlier weight ends at its bound");
   options.add("frame_bias_significance_sigmas", &c->frame_bias_significance_sigmas,
               "also correct the start frame when |bias| >= this many sigmas (0: off)").min(0.0);
   options.add("wheelbase_m", &c->wheelbase_m, "bicycle model wheelbase").min(0.0, false);

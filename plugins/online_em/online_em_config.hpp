@@ -164,16 +164,17 @@ struct OnlineEmConfig {
   // learned b to within 25 %. 3: a two-sided 0.3 % test; with no bias at all (30 % NLOS and
   // radio-silence runs, seeds 301-320) the learned b stays within 1.9 sigma_b. README "Round 17".
   double rerun_end_bias_sigmas = 3.0;
-  // anchor = start_pose: at the end of the run, where the learned outlier weight sits at its bound
-  // (kMaxOutlierWeight, 0.6: fewer than 40 % of the ranges fit the map) the solution is not
-  // trusted and dead reckoning is published instead, with the landmarks multilaterated from it,
-  // a note naming this key and dead_reckoning_fallback = 1 in STATUS (spectral + batch's rule and
-  // key). From the start pose no beacon is fixed: the map is fitted to the same ranges, and below
-  // the breakdown point a wrong basin that explains another minority fits as well (landmarks
-  // placed at their mirror images across an AUV's first lane). AUV kinds, seeds 2001-2100: runs
-  // over 1.25 x dead reckoning 16 -> 2 of 200, mean ratio 0.877 -> 0.881. Needs estimate_mixture
-  // (the weight is learned) and marginal indicators. README "Round 21". false: publish the filter's
-  // solution whatever its mixture says.
+  // At the end of the run, where the learned outlier weight sits at its bound (kMaxOutlierWeight,
+  // 0.6: fewer than 40 % of the ranges fit) the solution is not trusted and dead reckoning is
+  // published instead, with a note naming this key and dead_reckoning_fallback = 1 in STATUS
+  // (spectral + batch's key). From the start pose no beacon is fixed: the map is fitted to the
+  // same ranges, and below the breakdown point a wrong basin that explains another minority fits
+  // as well (landmarks placed at their mirror images across an AUV's first lane); its landmarks
+  // are multilaterated from the dead-reckoned path. With surveyed beacons the map is held to the
+  // survey, so the path is what fails to fit: the cloud lost the vehicle (README "Round 20").
+  // AUV kinds, seeds 2001-2100, runs over 1.25 x dead reckoning: start pose 16 -> 2 of 200,
+  // beacons 1 -> 0. Needs estimate_mixture (the weight is learned) and marginal indicators.
+  // README "Round 21". false: publish the filter's solution whatever its mixture says.
   bool fallback_deadreckoning = true;
   // The published trajectory (TRAJECTORY) smoothed: a Rauch-Tung-Striebel backward pass over the
   // particle cloud's Gaussian summary at each step (estimation/pose_smoother.hpp), the shared

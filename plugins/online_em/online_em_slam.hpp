@@ -101,10 +101,11 @@
 // mixture, and replace the map, the window's path, the particles' frame and the landmark
 // statistics where the ranges refute the dead-reckoned path (likelihood-ratio gain >= gate^2).
 //
-// Dead-reckoning fallback (fallback_deadreckoning, anchor = start_pose; dead_reckoning_fallback.cpp):
-// where the learned outlier weight w1 ends the run at its bound (kMaxOutlierWeight), fewer than
-// 1 - w1 of the ranges fit a map fitted to those same ranges, below the breakdown point; the
-// TRAJECTORY is then the odometry composed from the start pose, the map multilaterated from it.
+// Dead-reckoning fallback (fallback_deadreckoning; dead_reckoning_fallback.cpp): where the learned
+// outlier weight w1 ends the run at its bound (kMaxOutlierWeight), fewer than 1 - w1 of the ranges
+// fit: from the start pose a map fitted to those same ranges (below the breakdown point), with
+// surveyed beacons the path (the cloud lost the vehicle). The TRAJECTORY is then the odometry
+// composed from the start pose; from the start pose the map is multilaterated from it.
 //
 // Published trajectory (smooth_trajectory, off by default): POSE streams the filtered cloud's
 // weighted mean; the TRAJECTORY at the end may be that path smoothed by a Rauch-Tung-Striebel

@@ -1,9 +1,12 @@
-// The dead-reckoning fallback (fallback_deadreckoning, anchor = start_pose): a run whose learned
-// outlier weight ends at its bound (kMaxOutlierWeight) publishes the odometry's own path, exactly,
-// with the landmarks multilaterated from it, STATUS dead_reckoning_fallback = 1 and a note naming
-// the key; with the key off the same run publishes the filter's path, over 1.25 x dead reckoning.
-// A run whose weight stays under the bound publishes the filter's path, bit for bit either way.
+// The dead-reckoning fallback (fallback_deadreckoning): a run whose learned outlier weight ends at
+// its bound (kMaxOutlierWeight) publishes the odometry's own path, exactly, STATUS
+// dead_reckoning_fallback = 1 and a note naming the key; from the start pose with the landmarks
+// multilaterated from it, with surveyed beacons with the survey's map. With the key off the same
+// runs publish the filter's path, over 1.25 x dead reckoning. A run whose weight stays under the
+// bound publishes the filter's path, bit for bit either way.
+#include <cmath>
 #include <cstdio>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -24,7 +27,7 @@ using online_em_test::deadReckoningError;
 using online_em_test::feed;
 using online_em_test::meanError;
 
-struct StartPoseRun {
+struct OnlineEmRun {
   Path trajectory;
   Path filtered;
   Map map;
@@ -32,12 +35,12 @@ struct StartPoseRun {
   double outlier_weight = 0.0;
 };
 
-StartPoseRun runStartPose(const Dataset& data, bool fallback) {
+OnlineEmRun runOnlineEm(const Dataset& data, bool fallback, const std::string& anchor = "start_pose") {
   OnlineEmConfig config;
-  setOptions(&config, addOnlineEmOptions, {{"anchor", "start_pose"}, {"fallback_deadreckoning", fallback ? "true" : "false"}});
+  setOptions(&config, addOnlineEmOptions, {{"anchor", anchor}, {"fallback_deadreckoning", fallback ? "true" : "false"}});
   OnlineEmSlam slam(config);
   feed(data, slam);
-  StartPoseRun run;
+  OnlineEmRun run;
   EXPECT_TRUE(slam.trajectory(false, &run.trajectory));
   run.filtered = slam.filteredPath();
   Map map;
@@ -47,12 +50,24 @@ StartPoseRun runStartPose(const Dataset& data, bool fallback) {
   return run;
 }
 
+// The published trajectory is the odometry composed from the start pose, to the last bit.
+void expectDeadReckoning(const Path& trajectory, const Dataset& data) {
+  ASSERT_EQ(trajectory.size(), data.odometry.size() + 1);
+  Pose pose = data.start;
+  for (size_t k = 0; k < data.odometry.size(); ++k) {
+    pose = estimation::step(pose, data.odometry[k]);
+    ASSERT_EQ(trajectory[k + 1].x_m, pose.x_m) << k;
+    ASSERT_EQ(trajectory[k + 1].y_m, pose.y_m) << k;
+    ASSERT_EQ(trajectory[k + 1].heading_rad, pose.heading_rad) << k;
+  }
+}
+
 TEST(OnlineEmFallback, AStartPoseRunWhoseOutlierWeightEndsAtItsBoundPublishesDeadReckoning) {
   // The seed sweep's auv-goats kind, seed 2060: landmarks placed from the first lanes' noisy dead
   // reckoning explain too few ranges, and the filter ends 13.4 m off where dead reckoning is 6.2.
   const Dataset data = sim::simulate(sim::goatsLikeWorld(2060, 210));
   const double dr_m = deadReckoningError(data);
-  const StartPoseRun off = runStartPose(data, false);
+  const OnlineEmRun off = runOnlineEm(data, false);
   const double off_m = meanError(off.trajectory, data.ground_truth);
   std::printf("auv-goats 2060, start pose: filter %.2f m, dead reckoning %.2f m, outlier weight %.3f\n", off_m, dr_m,
               off.outlier_weight);
@@ -60,16 +75,8 @@ TEST(OnlineEmFallback, AStartPoseRunWhoseOutlierWeightEndsAtItsBoundPublishesDea
   EXPECT_GT(off_m, 1.25 * dr_m);  // measured 13.4 / 6.2 m (2.15 x)
   EXPECT_EQ(off.diagnostics.count("dead_reckoning_fallback"), 0u);
 
-  const StartPoseRun on = runStartPose(data, true);
-  // The published trajectory is the odometry composed from the start pose, to the last bit.
-  ASSERT_EQ(on.trajectory.size(), data.odometry.size() + 1);
-  Pose pose = data.start;
-  for (size_t k = 0; k < data.odometry.size(); ++k) {
-    pose = estimation::step(pose, data.odometry[k]);
-    ASSERT_EQ(on.trajectory[k + 1].x_m, pose.x_m) << k;
-    ASSERT_EQ(on.trajectory[k + 1].y_m, pose.y_m) << k;
-    ASSERT_EQ(on.trajectory[k + 1].heading_rad, pose.heading_rad) << k;
-  }
+  const OnlineEmRun on = runOnlineEm(data, true);
+  expectDeadReckoning(on.trajectory, data);
   EXPECT_NEAR(meanError(on.trajectory, data.ground_truth), dr_m, 1e-9);
   // The filter ran as before: its own path is the one the key-off run published.
   EXPECT_EQ(on.filtered.size(), off.filtered.size());
@@ -85,12 +92,36 @@ TEST(OnlineEmFallback, AStartPoseRunWhoseOutlierWeightEndsAtItsBoundPublishesDea
   EXPECT_EQ(on.map.size(), data.beacons.size());
 }
 
+TEST(OnlineEmFallback, ACloudLostAmongSurveyedBeaconsPublishesDeadReckoning) {
+  // The seed sweep's auv-sparse kind, seed 2013, surveyed beacons: the cloud falls behind the
+  // vehicle, scores its inliers as outliers, and ends 26.2 m off where dead reckoning is 13.2.
+  const Dataset data = sim::simulate(sim::auvLikeWorld(2013, 500));
+  const double dr_m = deadReckoningError(data);
+  const OnlineEmRun off = runOnlineEm(data, false, "beacons");
+  const double off_m = meanError(off.trajectory, data.ground_truth);
+  std::printf("auv-sparse 2013, beacons: filter %.2f m, dead reckoning %.2f m, outlier weight %.3f\n", off_m, dr_m,
+              off.outlier_weight);
+  EXPECT_DOUBLE_EQ(off.outlier_weight, kMaxOutlierWeight);
+  EXPECT_GT(off_m, 1.25 * dr_m);  // measured 26.2 / 13.2 m (1.98 x)
+
+  const OnlineEmRun on = runOnlineEm(data, true, "beacons");
+  expectDeadReckoning(on.trajectory, data);
+  EXPECT_EQ(on.diagnostics.at("dead_reckoning_fallback"), 1.0);
+  const auto note = on.diagnostics.lower_bound("note: published dead reckoning");
+  ASSERT_NE(note, on.diagnostics.end());
+  EXPECT_NE(note->first.find("surveyed beacons"), std::string::npos) << note->first;
+  // The map stays the survey's: the last one published is the filter's, within a metre of it.
+  ASSERT_EQ(on.map.size(), data.beacons.size());
+  for (size_t n = 0; n < on.map.size(); ++n)
+    EXPECT_LT(std::hypot(on.map[n].x_m - data.beacons[n].x_m, on.map[n].y_m - data.beacons[n].y_m), 1.0) << n;
+}
+
 TEST(OnlineEmFallback, ARunWhoseOutlierWeightStaysUnderItsBoundIsUnchanged) {
   // 30 % NLOS from the start pose: the weight is learned near 0.3 and the filter's path stands,
   // bit for bit with and without the key.
   const Dataset data = sim::simulate(sim::nlos30LawnMowerWorld(302, 1500));
-  const StartPoseRun on = runStartPose(data, true);
-  const StartPoseRun off = runStartPose(data, false);
+  const OnlineEmRun on = runOnlineEm(data, true);
+  const OnlineEmRun off = runOnlineEm(data, false);
   EXPECT_LT(on.outlier_weight, 0.4);
   EXPECT_EQ(on.diagnostics.count("dead_reckoning_fallback"), 0u);
   ASSERT_EQ(on.trajectory.size(), off.trajectory.size());
