@@ -28,8 +28,13 @@ bool OnlineEmSlam::fallbackEnabled() const {
 
 void OnlineEmSlam::recordDeadReckoning(const Odometry& odometry) {
   if (!fallbackEnabled() || dead_reckoned_.empty()) return;
-  dead_reckoned_pose_ = estimation::step(dead_reckoned_pose_, odometry);
-  const Pose& p = dead_reckoned_pose_;
+  const DeadReckonedPose& last = dead_reckoned_.back();
+  Pose from;
+  from.utime = last.utime;
+  from.x_m = last.x_m;
+  from.y_m = last.y_m;
+  from.heading_rad = last.heading_rad;
+  const Pose p = estimation::step(from, odometry);
   dead_reckoned_.push_back({p.utime, p.x_m, p.y_m, p.heading_rad});
 }
 
@@ -81,13 +86,9 @@ void OnlineEmSlam::fallBackToDeadReckoning() {
     sigma_m.emplace(r.beacon_id, r.sigma_m > 0.0 ? r.sigma_m : config_.range_sigma_m);
   }
   Map map;
-  const double gate = config_.init_outlier_gate_sigmas;
   for (const auto& [id, positions] : points) {
     std::array<double, 2> beacon_m{0.0, 0.0};
-    const double band_m = std::max(1.0, gate * sigma_m[id]);
-    const bool solved = gate > 0.0 ? estimation::multilaterateTriples(positions, ranges_m[id], band_m, &beacon_m)
-                                   : estimation::multilaterateLinear(positions, ranges_m[id], &beacon_m);
-    if (!solved) continue;
+    if (!multilaterateLandmark(positions, ranges_m[id], sigma_m[id], &beacon_m)) continue;
     Beacon b;
     b.id = id;
     b.x_m = beacon_m[0];

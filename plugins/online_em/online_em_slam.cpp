@@ -64,10 +64,7 @@ OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
 void OnlineEmSlam::start(const Pose& pose) {
   started_ = true;
   start_pose_ = pose;
-  if (dead_reckoned_.empty() && fallbackEnabled()) {
-    dead_reckoned_pose_ = pose;
-    dead_reckoned_.push_back({pose.utime, pose.x_m, pose.y_m, pose.heading_rad});
-  }
+  if (dead_reckoned_.empty() && fallbackEnabled()) dead_reckoned_.push_back({pose.utime, pose.x_m, pose.y_m, pose.heading_rad});
   last_utime_ = pose.utime;
   particles_.x_m.setConstant(pose.x_m);
   particles_.y_m.setConstant(pose.y_m);
@@ -461,6 +458,14 @@ bool mirrorRejected(const std::vector<std::array<double, 2>>& points, const std:
 
 }  // namespace
 
+bool OnlineEmSlam::multilaterateLandmark(const std::vector<std::array<double, 2>>& points,
+                                         const std::vector<double>& ranges_m, double sr,
+                                         std::array<double, 2>* beacon_m) const {
+  const double gate = config_.init_outlier_gate_sigmas;
+  return gate > 0.0 ? estimation::multilaterateTriples(points, ranges_m, std::max(1.0, gate * sr), beacon_m)
+                    : estimation::multilaterateLinear(points, ranges_m, beacon_m);
+}
+
 void OnlineEmSlam::tryInitialise(int i) {
   Landmark& landmark = landmarks_[i];
   std::vector<Eigen::Vector2d> positions;
@@ -505,10 +510,8 @@ void OnlineEmSlam::tryInitialise(int i) {
     if (spread_m < config_.init_min_spread_m && !(config_.init_mirror_test && gate > 0.0)) return;
     std::array<double, 2> beacon_m{0.0, 0.0};
     const double band_m = std::max(1.0, gate * sr);
-    const bool solved = gate > 0.0 ? estimation::multilaterateTriples(points, ranges, band_m, &beacon_m)
-                                   : estimation::multilaterateLinear(points, ranges, &beacon_m);
     landmark.failed_check = InitCheck::kNoConsensus;
-    if (!solved) return;
+    if (!multilaterateLandmark(points, ranges, sr, &beacon_m)) return;
     if (spread_m < config_.init_min_spread_m) {
       landmark.failed_check = InitCheck::kMirror;
       // The ranges were taken from dead-reckoned mean poses: their residuals carry the cloud's

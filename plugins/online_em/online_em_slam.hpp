@@ -127,6 +127,7 @@
 // anchor = beacons: BEACONS give every landmark's prior (mean and covariance).
 #pragma once
 
+#include <array>
 #include <map>
 #include <random>
 #include <string>
@@ -223,6 +224,11 @@ class OnlineEmSlam : public Estimator {
   void resample();
   void smoothStatistics(std::vector<StepObservation>& observations);
   void tryInitialise(int landmark);
+  // A landmark's position from ranges taken at the given positions (sr: the range's sigma): the
+  // shared consensus of triples with the inlier band init_outlier_gate_sigmas * sr (at least 1 m,
+  // for dead-reckoned positions), or with gate 0 the linear solution on all. False if unsolved.
+  bool multilaterateLandmark(const std::vector<std::array<double, 2>>& points, const std::vector<double>& ranges_m,
+                             double sr, std::array<double, 2>* beacon_m) const;
   // log of the two-component mixture likelihood, and P(I = 1 | pose, y).
   double mixtureLogLikelihood(const RangeObservation& y, double x_m, double y_m, double heading_rad,
                               const Eigen::Vector4d& phi_i, double* wide_probability) const;
@@ -340,7 +346,6 @@ class OnlineEmSlam : public Estimator {
     int64_t utime = 0;
     double x_m = 0.0, y_m = 0.0, heading_rad = 0.0;
   };
-  Pose dead_reckoned_pose_;  // the latest, composed by estimation::step
   std::vector<DeadReckonedPose> dead_reckoned_;
   std::vector<DeadReckonedRange> dead_reckoned_ranges_;
   bool fallen_back_ = false;
