@@ -105,11 +105,15 @@ void EkfSlam::startRecoveryTrial(int64_t step_index) {
   trial_.span_m = std::max(max_range_m_, 1.0);
 }
 
-void EkfSlam::scoreRange(double innovation_m, double innovation_var_m2) {
+double rangeLogLikelihood(double innovation_m, double innovation_var_m2, double outlier_weight, double span_m) {
   constexpr double kTwoPi = 6.283185307179586;
   const double var = std::max(innovation_var_m2, 1e-12);
   const double inlier = std::exp(-0.5 * innovation_m * innovation_m / var) / std::sqrt(kTwoPi * var);
-  trial_.log_likelihood += std::log((1.0 - trial_.outlier_weight) * inlier + trial_.outlier_weight / trial_.span_m);
+  return std::log((1.0 - outlier_weight) * inlier + outlier_weight / span_m);
+}
+
+void EkfSlam::scoreRange(double innovation_m, double innovation_var_m2) {
+  trial_.log_likelihood += rangeLogLikelihood(innovation_m, innovation_var_m2, trial_.outlier_weight, trial_.span_m);
 }
 
 void EkfSlam::countRange(Verdict verdict, bool live, bool recording) {

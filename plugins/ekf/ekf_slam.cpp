@@ -368,6 +368,8 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
             : filter_.updateRange(range.beacon_id, range.range_m, sigma_m, gate_range_chi2_, &nis, config_.range_huber_k,
                                   &innovation_m, &innovation_var_m2);
     if (recording && !range.has_bearing && result != EkfFilter::Update::kDegenerate) scoreRange(innovation_m, innovation_var_m2);
+    if (live && !range.has_bearing && result != EkfFilter::Update::kDegenerate)
+      predictive_log_likelihood_ += rangeLogLikelihood(innovation_m, innovation_var_m2, kScoreOutlierWeight, std::max(max_range_m_, 1.0));
     if (live) {
       ++known_ranges_live_;
       if (result == EkfFilter::Update::kGated) ++known_ranges_gated_live_;
@@ -689,6 +691,7 @@ void EkfSlam::publishDiagnostics() {
   setDiagnostic("starvation_recoveries_declined", static_cast<double>(recoveries_declined_));
   setDiagnostic("motion_noise_scale", adapt_.motion_noise_scale);
   setDiagnostic("range_noise_scale", adapt_.range_noise_scale);
+  setDiagnostic("predictive_log_likelihood", predictive_log_likelihood_);
   if (filter_.withCalibration()) {
     const Eigen::MatrixXd& P = filter_.covariance();
     const int c = filter_.calibrationIndex();

@@ -62,6 +62,10 @@ using estimation::MultilaterationResult;
 using estimation::RangeBiasPrior;
 using estimation::Sighting;
 
+// A range's log-likelihood under an outlier mixture: (1 - w) N(innovation; 0, S) + w / span, the
+// outliers uniform over span (m). Scores the starvation trial's two runs and the bank's models.
+double rangeLogLikelihood(double innovation_m, double innovation_var_m2, double outlier_weight, double span_m);
+
 class EkfSlam : public Estimator {
  public:
   explicit EkfSlam(const EkfConfig& config);
@@ -91,6 +95,12 @@ class EkfSlam : public Estimator {
   const std::vector<Initialisation>& initialisations() const { return initialisations_; }
   // The history held for re-runs: its steps, and how many of them keep a state snapshot (a state
   // and covariance each, the history's memory: rerunMayStartAt).
+  // The sum over the live ranges to beacons in the state of their log-likelihood before their
+  // update (rangeLogLikelihood, with half the ranges outliers over the longest range so far): how
+  // well this filter predicted the ranges (the prediction-error decomposition of the run's
+  // likelihood). Re-runs do not change it. What the bank of translation-noise models compares.
+  double predictiveLogLikelihood() const { return predictive_log_likelihood_; }
+  static constexpr double kScoreOutlierWeight = 0.5;
   size_t historySteps() const { return history_.size(); }
   size_t historySnapshots() const;
 
@@ -242,6 +252,7 @@ class EkfSlam : public Estimator {
   int64_t excluded_ranges_total_ = 0;
   int64_t gated_ = 0;
   Adaptation adapt_;
+  double predictive_log_likelihood_ = 0.0;
   int64_t recoveries_ = 0;
   int64_t recoveries_declined_ = 0;   // widenings whose trial the run without them won
   RecoveryTrial trial_;

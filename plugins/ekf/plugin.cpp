@@ -1,4 +1,5 @@
 // ABI shim: the EKF SLAM core as plugin "ekf".
+#include "ekf_bank.hpp"
 #include "ekf_config.hpp"
 #include "ekf_slam.hpp"
 #include "roam/plugin_shim.hpp"
@@ -9,6 +10,9 @@ std::unique_ptr<roam::Estimator> makeEkf(roam::Options& options) {
   roam::ekf::EkfConfig config;
   roam::ekf::addEkfOptions(options, &config);
   options.parse();
+  // With surveyed beacons, a bank of translation-noise models (ekf_bank.hpp).
+  if (config.anchor == roam::ekf::EkfConfig::Anchor::kBeacons && config.translation_noise_models > 1)
+    return std::make_unique<roam::ekf::EkfBank>(config);
   return std::make_unique<roam::ekf::EkfSlam>(config);
 }
 

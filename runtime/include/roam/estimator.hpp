@@ -76,6 +76,10 @@ class Estimator {
   // carried in STATUS as the diagnostic "note: <text>" (value 1); roam-run prints each note
   // after the run with the key it names.
   void note(const std::string& text) { diagnostics_["note: " + text] = 1.0; }
+  // For an estimator that runs others and reports one of them (the EKF's bank of translation-noise
+  // models): its state, counts, rejections and diagnostics become `member`'s, plus the inputs this
+  // estimator itself was told to reject (the shim's input checks), which no member saw.
+  void reportAs(const Estimator& member);
 
  private:
   EstimatorState state_ = EstimatorState::kInitializing;
@@ -89,6 +93,13 @@ class Estimator {
   std::string last_rejection_;
   std::map<std::string, int64_t> rejections_;
   std::map<std::string, double> diagnostics_;
+  // Every reject* call's count (an estimator that reports a member rejects nothing itself, so
+  // there these are the shim's input checks): what reportAs keeps on top of the member's.
+  struct OutsideRejections {
+    int64_t odometry = 0, ranges = 0;
+    std::string last;
+    std::map<std::string, int64_t> named;
+  } outside_;
 };
 
 }  // namespace roam
