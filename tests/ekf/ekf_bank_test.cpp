@@ -1,0 +1,139 @@
+// The EKF's bank of translation-noise models (ekf_bank.hpp), anchor = beacons: on AUV-like runs
+// whose odometry is 15-20 % noisy against the configured 2 %, the bank publishes a noisier model
+// and beats the single filter by a margin; on a UWB run whose odometry noise is the configured
+// one it publishes the configured model, bit for bit the single filter's answer; it repeats bit
+// for bit; and what it reports (counts, rejections, STATUS) is its published model's, plus what
+// it was told to reject itself.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "ekf_bank.hpp"
+#include "ekf_config.hpp"
+#include "ekf_slam.hpp"
+#include "feed.hpp"
+#include "sim.hpp"
+
+namespace roam {
+namespace ekf {
+namespace {
+
+using test::deadReckoningError;
+using test::meanError;
+
+EkfConfig surveyedBeacons(int models) {
+  EkfConfig config;
+  config.anchor = EkfConfig::Anchor::kBeacons;
+  config.translation_noise_models = models;
+  return config;
+}
+
+double trajectoryError(Estimator& estimator, const sim::SimRun& run, Path* trajectory) {
+  test::feed(run, estimator, true);
+  EXPECT_TRUE(estimator.trajectory(true, trajectory));
+  return meanError(*trajectory, run.ground_truth);
+}
+
+TEST(EkfBank, AnAuvWhoseOdometryIsNoisierThanConfiguredGetsANoisierModel) {
+  // auv-sparse seed 4001 (the seed sweep's kind; odometry 15 % noisy and 3 % short): the single
+  // filter, told 2 %, gated 319 of 450 ranges and wandered to 280 m (90.9 m mean, dead reckoning
+  // 11.95). The bank publishes the 10 x model (20 %): 1.92 m. Seed 2012 (the single filter at
+  // 6.51 m): 2.31. Bounds: below 0.4 x the single filter (0.02 and 0.35 measured) and 0.25 x dead
+  // reckoning (0.16 and 0.20).
+  for (const uint64_t seed : {4001, 2012}) {
+    const sim::SimRun run = sim::simulate(sim::auvLikeWorld(seed, 500));
+    EkfSlam single(surveyedBeacons(1));
+    EkfBank bank(surveyedBeacons(4));
+    Path single_path, bank_path;
+    const double single_m = trajectoryError(single, run, &single_path);
+    const double bank_m = trajectoryError(bank, run, &bank_path);
+    const double dead_reckoning_m = deadReckoningError(run);
+    std::printf("auv-sparse %d: single filter %.2f m, bank %.2f m (translation noise x %.2f), dead reckoning %.2f m\n",
+                static_cast<int>(seed), single_m, bank_m, bank.bestFactor(), dead_reckoning_m);
+    EXPECT_GT(bank.bestFactor(), 4.0);
+    EXPECT_LT(bank_m, 0.4 * single_m);
+    EXPECT_LT(bank_m, 0.25 * dead_reckoning_m);
+    EXPECT_DOUBLE_EQ(bank.diagnostics().at("translation_noise_factor"), bank.bestFactor());
+    EXPECT_DOUBLE_EQ(bank.diagnostics().at("predictive_log_likelihood"), bank.best().predictiveLogLikelihood());
+    // Models 20 nats behind were dropped; the published one is the best of those left.
+    EXPECT_LT(bank.factors().size(), 4u);
+    bool noted = false;
+    for (const auto& [key, value] : bank.diagnostics()) noted |= key.find("note: the odometry's translation noise") == 0;
+    EXPECT_TRUE(noted);
+  }
+}
+
+TEST(EkfBank, AGoatsLikeAuvToo) {
+  // auv-goats seed 2012 (odometry 20 % noisy, 1-2 m per-beacon offsets): 8.18 m single, 2.78 m bank
+  // (0.34 x). Bound 0.5 x.
+  const sim::SimRun run = sim::simulate(sim::goatsLikeWorld(2012, 210));
+  EkfSlam single(surveyedBeacons(1));
+  EkfBank bank(surveyedBeacons(4));
+  Path single_path, bank_path;
+  const double single_m = trajectoryError(single, run, &single_path);
+  const double bank_m = trajectoryError(bank, run, &bank_path);
+  std::printf("auv-goats 2012: single filter %.2f m, bank %.2f m (x %.2f)\n", single_m, bank_m, bank.bestFactor());
+  EXPECT_LT(bank_m, 0.5 * single_m);
+  EXPECT_GT(bank.bestFactor(), 1.0);
+}
+
+TEST(EkfBank, OdometryAsNoisyAsConfiguredKeepsTheConfiguredModelBitForBit) {
+  // The drifting-gyro figure-8 (2 % odometry, as configured): the configured model predicts the
+  // ranges best, and the bank's answer is the single filter's to the last bit.
+  const sim::SimRun run = sim::simulate(sim::gyroDriftFigure8World(201, 1500));
+  EkfSlam single(surveyedBeacons(1));
+  EkfBank bank(surveyedBeacons(4));
+  Path single_path, bank_path;
+  const double single_m = trajectoryError(single, run, &single_path);
+  const double bank_m = trajectoryError(bank, run, &bank_path);
+  EXPECT_EQ(bank.bestFactor(), 1.0);
+  EXPECT_EQ(bank_m, single_m);
+  ASSERT_EQ(bank_path.size(), single_path.size());
+  for (size_t k = 0; k < bank_path.size(); ++k) {
+    EXPECT_EQ(bank_path[k].x_m, single_path[k].x_m);
+    EXPECT_EQ(bank_path[k].y_m, single_path[k].y_m);
+  }
+  EXPECT_EQ(bank.rangesAccepted(), single.rangesAccepted());
+  EXPECT_EQ(bank.rangesRejected(), single.rangesRejected());
+}
+
+TEST(EkfBank, RepeatsBitForBit) {
+  const sim::SimRun run = sim::simulate(sim::auvLikeWorld(4001, 500));
+  Path first, second;
+  EkfBank a(surveyedBeacons(4)), b(surveyedBeacons(4));
+  trajectoryError(a, run, &first);
+  trajectoryError(b, run, &second);
+  ASSERT_EQ(first.size(), second.size());
+  for (size_t k = 0; k < first.size(); ++k) {
+    EXPECT_EQ(first[k].x_m, second[k].x_m);
+    EXPECT_EQ(first[k].y_m, second[k].y_m);
+    EXPECT_EQ(first[k].heading_rad, second[k].heading_rad);
+  }
+}
+
+TEST(EkfBank, ReportsItsModelPlusWhatItWasToldToReject) {
+  // The shim rejects inputs before the estimator sees them (a range that is not finite): those
+  // are the bank's own and stay counted on top of its model's counts.
+  const sim::SimRun run = sim::simulate(sim::auvLikeWorld(4001, 100));
+  EkfBank bank(surveyedBeacons(4));
+  bank.rejectRange("not finite");
+  bank.rejectOdometry("faster than max_speed_mps");
+  test::feed(run, bank, true);
+  bank.finish();
+  const EkfSlam& model = bank.best();
+  EXPECT_EQ(bank.rangesAccepted(), model.rangesAccepted());
+  EXPECT_EQ(bank.rangesRejected(), model.rangesRejected() + 1);
+  EXPECT_EQ(bank.odometryRejected(), model.odometryRejected() + 1);
+  EXPECT_EQ(bank.rejections().at("range: not finite"), 1);
+  EXPECT_EQ(bank.rejections().at("odometry: faster than max_speed_mps"), 1);
+  EXPECT_EQ(bank.state(), EstimatorState::kFinished);
+  EXPECT_GT(bank.rangesAccepted(), 0);
+}
+
+TEST(EkfBank, RefusesAnEmptyBank) {
+  EXPECT_THROW(EkfBank(surveyedBeacons(0)), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ekf
+}  // namespace roam
