@@ -34,6 +34,25 @@ double trajectoryError(Estimator& estimator, const sim::SimRun& run, Path* traje
   return meanError(*trajectory, run.ground_truth);
 }
 
+// The single filter (the configured noise) and the bank of four on one run.
+struct Comparison {
+  EkfSlam single{surveyedBeacons(1)};
+  EkfBank bank{surveyedBeacons(4)};
+  Path single_path, bank_path;
+  double single_m = 0.0, bank_m = 0.0;
+  explicit Comparison(const sim::SimRun& run)
+      : single_m(trajectoryError(single, run, &single_path)), bank_m(trajectoryError(bank, run, &bank_path)) {}
+};
+
+void expectBitIdentical(const Path& a, const Path& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].x_m, b[k].x_m);
+    EXPECT_EQ(a[k].y_m, b[k].y_m);
+    EXPECT_EQ(a[k].heading_rad, b[k].heading_rad);
+  }
+}
+
 TEST(EkfBank, AnAuvWhoseOdometryIsNoisierThanConfiguredGetsANoisierModel) {
   // auv-sparse seed 4001 (the seed sweep's kind; odometry 15 % noisy and 3 % short): the single
   // filter, told 2 %, gated 319 of 450 ranges and wandered to 280 m (90.9 m mean, dead reckoning
@@ -42,11 +61,9 @@ TEST(EkfBank, AnAuvWhoseOdometryIsNoisierThanConfiguredGetsANoisierModel) {
   // reckoning (0.16 and 0.20).
   for (const uint64_t seed : {4001, 2012}) {
     const sim::SimRun run = sim::simulate(sim::auvLikeWorld(seed, 500));
-    EkfSlam single(surveyedBeacons(1));
-    EkfBank bank(surveyedBeacons(4));
-    Path single_path, bank_path;
-    const double single_m = trajectoryError(single, run, &single_path);
-    const double bank_m = trajectoryError(bank, run, &bank_path);
+    const Comparison both(run);
+    const EkfBank& bank = both.bank;
+    const double single_m = both.single_m, bank_m = both.bank_m;
     const double dead_reckoning_m = deadReckoningError(run);
     std::printf("auv-sparse %d: single filter %.2f m, bank %.2f m (translation noise x %.2f), dead reckoning %.2f m\n",
                 static_cast<int>(seed), single_m, bank_m, bank.bestFactor(), dead_reckoning_m);
@@ -66,35 +83,21 @@ TEST(EkfBank, AnAuvWhoseOdometryIsNoisierThanConfiguredGetsANoisierModel) {
 TEST(EkfBank, AGoatsLikeAuvToo) {
   // auv-goats seed 2012 (odometry 20 % noisy, 1-2 m per-beacon offsets): 8.18 m single, 2.78 m bank
   // (0.34 x). Bound 0.5 x.
-  const sim::SimRun run = sim::simulate(sim::goatsLikeWorld(2012, 210));
-  EkfSlam single(surveyedBeacons(1));
-  EkfBank bank(surveyedBeacons(4));
-  Path single_path, bank_path;
-  const double single_m = trajectoryError(single, run, &single_path);
-  const double bank_m = trajectoryError(bank, run, &bank_path);
-  std::printf("auv-goats 2012: single filter %.2f m, bank %.2f m (x %.2f)\n", single_m, bank_m, bank.bestFactor());
-  EXPECT_LT(bank_m, 0.5 * single_m);
-  EXPECT_GT(bank.bestFactor(), 1.0);
+  const Comparison both(sim::simulate(sim::goatsLikeWorld(2012, 210)));
+  std::printf("auv-goats 2012: single filter %.2f m, bank %.2f m (x %.2f)\n", both.single_m, both.bank_m, both.bank.bestFactor());
+  EXPECT_LT(both.bank_m, 0.5 * both.single_m);
+  EXPECT_GT(both.bank.bestFactor(), 1.0);
 }
 
 TEST(EkfBank, OdometryAsNoisyAsConfiguredKeepsTheConfiguredModelBitForBit) {
   // The drifting-gyro figure-8 (2 % odometry, as configured): the configured model predicts the
   // ranges best, and the bank's answer is the single filter's to the last bit.
-  const sim::SimRun run = sim::simulate(sim::gyroDriftFigure8World(201, 1500));
-  EkfSlam single(surveyedBeacons(1));
-  EkfBank bank(surveyedBeacons(4));
-  Path single_path, bank_path;
-  const double single_m = trajectoryError(single, run, &single_path);
-  const double bank_m = trajectoryError(bank, run, &bank_path);
-  EXPECT_EQ(bank.bestFactor(), 1.0);
-  EXPECT_EQ(bank_m, single_m);
-  ASSERT_EQ(bank_path.size(), single_path.size());
-  for (size_t k = 0; k < bank_path.size(); ++k) {
-    EXPECT_EQ(bank_path[k].x_m, single_path[k].x_m);
-    EXPECT_EQ(bank_path[k].y_m, single_path[k].y_m);
-  }
-  EXPECT_EQ(bank.rangesAccepted(), single.rangesAccepted());
-  EXPECT_EQ(bank.rangesRejected(), single.rangesRejected());
+  const Comparison both(sim::simulate(sim::gyroDriftFigure8World(201, 1500)));
+  EXPECT_EQ(both.bank.bestFactor(), 1.0);
+  EXPECT_EQ(both.bank_m, both.single_m);
+  expectBitIdentical(both.bank_path, both.single_path);
+  EXPECT_EQ(both.bank.rangesAccepted(), both.single.rangesAccepted());
+  EXPECT_EQ(both.bank.rangesRejected(), both.single.rangesRejected());
 }
 
 TEST(EkfBank, RepeatsBitForBit) {
@@ -103,12 +106,7 @@ TEST(EkfBank, RepeatsBitForBit) {
   EkfBank a(surveyedBeacons(4)), b(surveyedBeacons(4));
   trajectoryError(a, run, &first);
   trajectoryError(b, run, &second);
-  ASSERT_EQ(first.size(), second.size());
-  for (size_t k = 0; k < first.size(); ++k) {
-    EXPECT_EQ(first[k].x_m, second[k].x_m);
-    EXPECT_EQ(first[k].y_m, second[k].y_m);
-    EXPECT_EQ(first[k].heading_rad, second[k].heading_rad);
-  }
+  expectBitIdentical(first, second);
 }
 
 TEST(EkfBank, ReportsItsModelPlusWhatItWasToldToReject) {
