@@ -368,7 +368,10 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
             : filter_.updateRange(range.beacon_id, range.range_m, sigma_m, gate_range_chi2_, &nis, config_.range_huber_k,
                                   &innovation_m, &innovation_var_m2);
     if (recording && !range.has_bearing && result != EkfFilter::Update::kDegenerate) scoreRange(innovation_m, innovation_var_m2);
-    if (live && !range.has_bearing && result != EkfFilter::Update::kDegenerate)
+    // Scored: the ranges every model of a bank scores alike (with surveyed beacons, theirs: a beacon
+    // placed from the ranges enters each model at its own time).
+    const bool scored = config_.anchor == EkfConfig::Anchor::kStartPose || isSurveyed(range.beacon_id);
+    if (live && scored && !range.has_bearing && result != EkfFilter::Update::kDegenerate)
       predictive_log_likelihood_ += rangeLogLikelihood(innovation_m, innovation_var_m2, kScoreOutlierWeight, std::max(max_range_m_, 1.0));
     if (live) {
       ++known_ranges_live_;

@@ -93,14 +93,15 @@ class EkfSlam : public Estimator {
     std::vector<Sighting> sightings;  // the ones the solve used
   };
   const std::vector<Initialisation>& initialisations() const { return initialisations_; }
-  // The history held for re-runs: its steps, and how many of them keep a state snapshot (a state
-  // and covariance each, the history's memory: rerunMayStartAt).
-  // The sum over the live ranges to beacons in the state of their log-likelihood before their
-  // update (rangeLogLikelihood, with half the ranges outliers over the longest range so far): how
-  // well this filter predicted the ranges (the prediction-error decomposition of the run's
-  // likelihood). Re-runs do not change it. What the bank of translation-noise models compares.
+  // The sum over the live ranges to beacons in the state (with surveyed beacons: to surveyed
+  // beacons) of their log-likelihood before their update (rangeLogLikelihood, with half the ranges
+  // outliers over the longest range so far): how well this filter predicted the ranges (the
+  // prediction-error decomposition of the run's likelihood). Re-runs do not change it. What the
+  // bank of translation-noise models compares (ekf_bank.hpp).
   double predictiveLogLikelihood() const { return predictive_log_likelihood_; }
   static constexpr double kScoreOutlierWeight = 0.5;
+  // The history held for re-runs: its steps, and how many of them keep a state snapshot (a state
+  // and covariance each, the history's memory: rerunMayStartAt).
   size_t historySteps() const { return history_.size(); }
   size_t historySnapshots() const;
 
