@@ -23,28 +23,23 @@ EkfBank::EkfBank(const EkfConfig& config) : config_(config) {
 }
 
 void EkfBank::setInitialPose(const Pose& start) {
-  for (Model& model : models_) model.filter->setInitialPose(start);
-  follow();
+  toEveryModel([&](EkfSlam& filter) { filter.setInitialPose(start); });
 }
 
 void EkfBank::setBeacons(const Map& surveyed) {
-  for (Model& model : models_) model.filter->setBeacons(surveyed);
-  follow();
+  toEveryModel([&](EkfSlam& filter) { filter.setBeacons(surveyed); });
 }
 
 void EkfBank::addOdometry(const Odometry& odometry) {
-  for (Model& model : models_) model.filter->addOdometry(odometry);
-  follow();
+  toEveryModel([&](EkfSlam& filter) { filter.addOdometry(odometry); });
 }
 
 void EkfBank::addRange(const Range& range) {
-  for (Model& model : models_) model.filter->addRange(range);
-  follow();
+  toEveryModel([&](EkfSlam& filter) { filter.addRange(range); });
 }
 
 void EkfBank::finish() {
-  for (Model& model : models_) model.filter->finish();
-  follow();
+  toEveryModel([](EkfSlam& filter) { filter.finish(); });
 }
 
 bool EkfBank::trajectory(bool force, Path* path) { return models_[best_].filter->trajectory(force, path); }

@@ -53,6 +53,12 @@ class EkfBank : public Estimator {
     double factor;
     std::unique_ptr<EkfSlam> filter;
   };
+  // One input to every model, then follow().
+  template <typename Input>
+  void toEveryModel(Input input) {
+    for (Model& model : models_) input(*model.filter);
+    follow();
+  }
   // After each input: drop the models too far behind, pick the best, pass its output on.
   void follow();
 
