@@ -59,8 +59,9 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
               "start_pose: re-run once from the start with the learned calibration");
   options.add("smooth_trajectory", &c->smooth_trajectory,
               {{"off", C::SmoothTrajectory::kOff}, {"beacons", C::SmoothTrajectory::kBeacons},
-               {"always", C::SmoothTrajectory::kAlways}},
-              "RTS-smoothed TRAJECTORY: off, beacons (anchor = beacons only), always");
+               {"always", C::SmoothTrajectory::kAlways}, {"sparse", C::SmoothTrajectory::kSparse}},
+              "RTS-smoothed TRAJECTORY: off, beacons (anchor = beacons only), always, sparse (anchor = beacons, ranges too "
+              "sparse to estimate the heading-rate bias)");
   options.add("trajectory_repass", &c->trajectory_repass,
               "smooth_trajectory: re-run the pose filter against the final map and calibration before smoothing");
   options.add("rerun_bias_sigma_fraction", &c->rerun_bias_sigma_fraction,

@@ -178,21 +178,29 @@ struct OnlineEmConfig {
   bool fallback_deadreckoning = true;
   // The published trajectory (TRAJECTORY) smoothed: a Rauch-Tung-Striebel backward pass over the
   // particle cloud's Gaussian summary at each step (estimation/pose_smoother.hpp), the shared
-  // motion model's prediction. off (default: the filtered means, what POSE streams), beacons
-  // (where anchor = beacons), always. Off by default: better on every synthetic beacons kind
-  // (README "Round 8"), but Plaza 1 / plaza1-drpath with beacons 0.39 / 0.50 -> 0.43 / 0.55 m
-  // and goats16's beacons 9.20 -> 9.57 m (1.25 x dead reckoning). From the start pose the error
-  // is the frame its map was placed in, a rigid motion no smoothing moves.
-  enum class SmoothTrajectory { kOff, kBeacons, kAlways };
-  SmoothTrajectory smooth_trajectory = SmoothTrajectory::kOff;
-  bool smoothing(Anchor a) const {
+  // motion model's prediction. off (the filtered means, what POSE streams), beacons (where
+  // anchor = beacons), always, sparse (default: anchor = beacons where the ranges are too sparse
+  // to re-fix the heading between fixes, the heading-rate bias rule heading_rate_bias_max_drift_rad
+  // holds b; decided at the 20th range, OnlineEmSlam::smoothsTrajectory). Sparse: between an
+  // AUV's fixes the filtered path carries the odometry's whole drift, and the final theta
+  // (offsets, mixture, kappa) is learned from hundreds of ranges the early path never saw. At
+  // UWB rates it stays off: Plaza 1 with beacons, the README table's particle seed, went 0.42 ->
+  // 0.57 m with it (five particle seeds: mean 0.51 -> 0.50; plaza1-drpath 0.50 -> 0.42), so the
+  // README's rule would break on one seed's draw (README "Round 23"). From the start pose the
+  // error is the frame its map was placed in, a rigid motion no smoothing moves.
+  enum class SmoothTrajectory { kOff, kBeacons, kAlways, kSparse };
+  SmoothTrajectory smooth_trajectory = SmoothTrajectory::kSparse;
+  // Whether the backward pass may run: for sparse, the run decides (OnlineEmSlam::smoothsTrajectory).
+  bool maySmooth(Anchor a) const {
     return smooth_trajectory == SmoothTrajectory::kAlways ||
-           (smooth_trajectory == SmoothTrajectory::kBeacons && a == Anchor::kBeacons);
+           ((smooth_trajectory == SmoothTrajectory::kBeacons || smooth_trajectory == SmoothTrajectory::kSparse) &&
+            a == Anchor::kBeacons);
   }
   // Before the backward pass, run the pose-only particle filter once more over every input
-  // against the final theta (map, range scale and offsets, calibration, mixture, kappa). Off:
-  // the best on every synthetic beacons kind, but plaza1-drift's beacons 0.58 -> 0.70 m (README).
-  bool trajectory_repass = false;
+  // against the final theta (map, range scale and offsets, calibration, mixture, kappa). On
+  // (since round 23): better than the plain backward pass on every synthetic beacons kind and
+  // AUV kind, plaza1-drpath and plaza1-drift (README "Round 23").
+  bool trajectory_repass = true;
   // The frame correction (and so the re-run) also applies when |b| >= this many sigma_b (0: off,
   // only the window's rotation against its heading noise counts). 3 fixes the synthetic
   // figure-8 at 0.002-0.005 rad/s (1.2-2.5 m -> 0.4-0.6 m, seeds 401/402) where the short window

@@ -153,7 +153,7 @@ void OnlineEmSlam::addRange(const Range& range) {
     return;
   }
   if (recording_ && !replaying_) inputs_.push_back({false, Odometry{}, range});
-  if (config_.smoothing(config_.anchor) && config_.trajectory_repass && !replaying_) all_inputs_.push_back({false, Odometry{}, range});
+  if (recordsForSmoothing() && config_.trajectory_repass && !replaying_) all_inputs_.push_back({false, Odometry{}, range});
   checkBiasObservable(range.utime);
   if (config_.outlier_model == OnlineEmConfig::OutlierModel::kUniform && range.range_m > max_range_m_) {
     max_range_m_ = range.range_m;
@@ -164,7 +164,7 @@ void OnlineEmSlam::addRange(const Range& range) {
 
 void OnlineEmSlam::addOdometry(const Odometry& odometry) {
   if (recording_ && !replaying_) inputs_.push_back({true, odometry, Range{}});
-  if (config_.smoothing(config_.anchor) && config_.trajectory_repass && !replaying_) all_inputs_.push_back({true, odometry, Range{}});
+  if (recordsForSmoothing() && config_.trajectory_repass && !replaying_) all_inputs_.push_back({true, odometry, Range{}});
   processOdometry(odometry);
   if (rerun_pending_ && !replaying_) rerun();
 }
@@ -213,7 +213,7 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
   const bool standing = standingStill(&standstill_, odometry, dt_s);
   motion_.setControl(odometry, dt_s, calibration_, standing);
   // What the backward pass needs, only where it runs (~140 bytes a step).
-  if (config_.smoothing(config_.anchor)) transitions_.push_back({motion_.increment(), motion_.incrementCovariance()});
+  if (recordsForSmoothing()) transitions_.push_back({motion_.increment(), motion_.incrementCovariance()});
   if (window_open_) {
     window_odometry_.push_back(odometry);
     window_dt_s_.push_back(dt_s);
@@ -753,6 +753,23 @@ void OnlineEmSlam::checkBiasObservable(int64_t range_utime) {
   if (decision == Decision::kUndecided) return;
   setDiagnostic("heading_rate_bias_estimated", decision == Decision::kEstimate ? 1.0 : 0.0);
   if (decision == Decision::kHold) note(bias_rate_.heldNote("heading_rate_bias_max_drift_rad"));
+  if (!recordsForSmoothing()) {
+    // smooth_trajectory = sparse on dense ranges: what the backward pass would have needed goes.
+    std::vector<Input>().swap(all_inputs_);
+    std::vector<estimation::PoseTransition>().swap(transitions_);
+  }
+}
+
+bool OnlineEmSlam::smoothsTrajectory() const {
+  if (!config_.maySmooth(config_.anchor)) return false;
+  return config_.smooth_trajectory != OnlineEmConfig::SmoothTrajectory::kSparse ||
+         bias_rate_.decision() == estimation::BiasObservability::Decision::kHold;
+}
+
+bool OnlineEmSlam::recordsForSmoothing() const {
+  // Until the sparse rule is decided (the 20th range) every step is kept: the pass needs them all.
+  return config_.maySmooth(config_.anchor) &&
+         (config_.smooth_trajectory != OnlineEmConfig::SmoothTrajectory::kSparse || !biasEstimated());
 }
 
 void OnlineEmSlam::calibrationMStep() {
@@ -880,6 +897,7 @@ void OnlineEmSlam::finish() {
   pending_live_ranges_.clear();
   setDiagnostic("landmarks_never_initialised", static_cast<double>(never_initialised));
   if (fallbackEnabled() && learned_outlier_weight_ >= kMaxOutlierWeight) fallBackToDeadReckoning();
+  setDiagnostic("trajectory_smoothed", smoothsTrajectory() && !fallen_back_ ? 1.0 : 0.0);
   setState(EstimatorState::kFinished);
 }
 
@@ -888,7 +906,7 @@ bool OnlineEmSlam::trajectory(bool force, Path* path) {
   if (fallen_back_)
     *path = deadReckonedPath();
   else
-    *path = config_.smoothing(config_.anchor) ? smoothedPath() : path_;
+    *path = smoothsTrajectory() ? smoothedPath() : path_;
   return true;
 }
 

@@ -107,7 +107,8 @@
 // surveyed beacons the path (the cloud lost the vehicle). The TRAJECTORY is then the odometry
 // composed from the start pose; from the start pose the map is multilaterated from it.
 //
-// Published trajectory (smooth_trajectory, off by default): POSE streams the filtered cloud's
+// Published trajectory (smooth_trajectory, default sparse: anchor = beacons where the ranges are
+// too sparse for the heading-rate bias rule): POSE streams the filtered cloud's
 // weighted mean; the TRAJECTORY at the end may be that path smoothed by a Rauch-Tung-Striebel
 // backward pass (roam/estimation/pose_smoother.hpp) over the cloud's Gaussian summary
 // N(m_t, P_t) after each update, predicted through the shared motion model with the step's own
@@ -308,6 +309,10 @@ class OnlineEmSlam : public Estimator {
   // Heading-rate bias observability (heading_rate_bias_max_drift_rad): the first ranges' times.
   estimation::BiasObservability bias_rate_{0.0, 0.0};
   bool biasEstimated() const { return bias_rate_.decision() == estimation::BiasObservability::Decision::kEstimate; }
+  // The TRAJECTORY is smoothed (smooth_trajectory; sparse: where the ranges are too sparse for
+  // the bias rule), and the steps it needs are being kept (until sparse is decided, all).
+  bool smoothsTrajectory() const;
+  bool recordsForSmoothing() const;
   bool biasUndecided() const { return bias_rate_.decision() == estimation::BiasObservability::Decision::kUndecided; }
   void checkBiasObservable(int64_t range_utime);
   // Whether the step is one the vehicle stood still through (stationary_speed_mps): the
