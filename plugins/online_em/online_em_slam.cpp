@@ -914,7 +914,10 @@ Path OnlineEmSlam::smoothedPath() const {
   if (config_.motion_model != OnlineEmConfig::MotionModel::kOdometry || transitions_.size() + 1 != path_.size())
     return path_;
   std::vector<estimation::PoseTransition> repass_transitions;
-  const Path repass = config_.trajectory_repass ? repassPath(&repass_transitions) : Path{};
+  // The re-pass (a second run of the filter, O(N) per step) at the end only: a live request
+  // (roam-run's trajectory_interval_s, every 10 s of data) smooths the filtered path.
+  const bool finished = state() == EstimatorState::kFinished;
+  const Path repass = config_.trajectory_repass && finished ? repassPath(&repass_transitions) : Path{};
   const bool use_repass = !repass.empty();
   const Path& source = use_repass ? repass : path_;
   const std::vector<estimation::PoseTransition>& transitions = use_repass ? repass_transitions : transitions_;
