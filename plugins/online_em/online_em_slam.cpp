@@ -153,7 +153,7 @@ void OnlineEmSlam::addRange(const Range& range) {
     return;
   }
   if (recording_ && !replaying_) inputs_.push_back({false, Odometry{}, range});
-  if (recordsForSmoothing() && config_.trajectory_repass && !replaying_) all_inputs_.push_back({false, Odometry{}, range});
+  keepForRepass({false, Odometry{}, range});
   checkBiasObservable(range.utime);
   if (config_.outlier_model == OnlineEmConfig::OutlierModel::kUniform && range.range_m > max_range_m_) {
     max_range_m_ = range.range_m;
@@ -164,7 +164,7 @@ void OnlineEmSlam::addRange(const Range& range) {
 
 void OnlineEmSlam::addOdometry(const Odometry& odometry) {
   if (recording_ && !replaying_) inputs_.push_back({true, odometry, Range{}});
-  if (recordsForSmoothing() && config_.trajectory_repass && !replaying_) all_inputs_.push_back({true, odometry, Range{}});
+  keepForRepass({true, odometry, Range{}});
   processOdometry(odometry);
   if (rerun_pending_ && !replaying_) rerun();
 }
@@ -764,6 +764,10 @@ bool OnlineEmSlam::smoothsTrajectory() const {
   if (!config_.maySmooth(config_.anchor)) return false;
   return config_.smooth_trajectory != OnlineEmConfig::SmoothTrajectory::kSparse ||
          bias_rate_.decision() == estimation::BiasObservability::Decision::kHold;
+}
+
+void OnlineEmSlam::keepForRepass(const Input& input) {
+  if (recordsForSmoothing() && config_.trajectory_repass && !replaying_) all_inputs_.push_back(input);
 }
 
 bool OnlineEmSlam::recordsForSmoothing() const {

@@ -313,6 +313,8 @@ class OnlineEmSlam : public Estimator {
   // the bias rule), and the steps it needs are being kept (until sparse is decided, all).
   bool smoothsTrajectory() const;
   bool recordsForSmoothing() const;
+  // An input the re-pass (trajectory_repass) will need, kept while recordsForSmoothing().
+  void keepForRepass(const Input& input);
   bool biasUndecided() const { return bias_rate_.decision() == estimation::BiasObservability::Decision::kUndecided; }
   void checkBiasObservable(int64_t range_utime);
   // Whether the step is one the vehicle stood still through (stationary_speed_mps): the
