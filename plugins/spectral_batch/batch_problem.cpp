@@ -141,8 +141,15 @@ std::array<double, 3> odometrySigmas(const SpectralBatchConfig& c, const Odometr
   return {along_m, lateral_m, heading_rad};
 }
 
-Eigen::Matrix3d odometryCovariance(const SpectralBatchConfig& config, const Odometry& odometry, double dt_s) {
-  const std::array<double, 3> sigma = odometrySigmas(config, odometry);
+Eigen::Matrix3d odometryCovariance(const SpectralBatchConfig& config, const Odometry& odometry, double dt_s,
+                                   bool heading_as_stated) {
+  std::array<double, 3> sigma = odometrySigmas(config, odometry);
+  if (heading_as_stated && odometry.hasCovariance()) {
+    SpectralBatchConfig stated = config;
+    stated.odo_heading_sigma_rel = 0.0;
+    stated.odo_heading_sigma_per_sqrt_m = 0.0;
+    sigma = odometrySigmas(stated, odometry);
+  }
   // incrementCovariance with the along-track and heading sigmas as its floor...
   estimation::MotionNoise noise;
   noise.distance_fraction = 0.0;
@@ -181,7 +188,7 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     const Odometry& odometry = problem.odometry[k];
     const double dt_s = k < problem.dt_s.size() ? problem.dt_s[k] : 0.0;
     // Whitening: Sigma^-1 = L L^T with L = chol(Sigma^-1); the residual is L^T e.
-    const Eigen::Matrix3d information = odometryCovariance(config, odometry, dt_s).inverse();
+    const Eigen::Matrix3d information = odometryCovariance(config, odometry, dt_s, problem.heading_as_stated).inverse();
     Eigen::Matrix3d sqrt_information =
         Eigen::Matrix3d(Eigen::LLT<Eigen::Matrix3d>(information).matrixU()) / problem.odometry_sigma_factor;
     sqrt_information.row(2) /= problem.odometry_heading_sigma_factor;  // upper triangular: heading only
@@ -204,9 +211,17 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
   // else the distance scale is held at 1 and the range scale carries it.
   bool any_beacon_fixed = false;
   for (bool fixed : problem.beacon_fixed) any_beacon_fixed = any_beacon_fixed || fixed;
-  if (calibrate_odometry && !any_beacon_fixed && config.estimate_range_scale && !(config.range_scale_sigma > 0.0)) {
-    state->odometry_calibration[0] = 1.0;
-    ceres_problem.SetManifold(odometry_calibration, new ceres::SubsetManifold(2, {0}));
+  if (calibrate_odometry) {
+    std::vector<int> held;  // of the odometry calibration block: 0 distance scale, 1 bias
+    if (!any_beacon_fixed && config.estimate_range_scale && !(config.range_scale_sigma > 0.0)) {
+      state->odometry_calibration[0] = 1.0;
+      held.push_back(0);
+    }
+    if (problem.heading_as_stated) held.push_back(1);
+    if (held.size() == 2)
+      ceres_problem.SetParameterBlockConstant(odometry_calibration);
+    else if (!held.empty())
+      ceres_problem.SetManifold(odometry_calibration, new ceres::SubsetManifold(2, held));
   }
   if (num_poses > 0) ceres_problem.AddParameterBlock(state->poses[0].data(), 3);
 

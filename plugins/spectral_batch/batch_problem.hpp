@@ -54,6 +54,9 @@ struct Problem {
   // After the solve, the odometry's redundancy numbers (see Summary), for variance component
   // estimation of the odometry noise.
   bool compute_redundancy = false;
+  // sparse_heading_as_stated in force (batch_config.hpp): each step's heading noise as its
+  // odometry message states it (odometryCovariance) and the heading-rate bias held at its value.
+  bool heading_as_stated = false;
 };
 
 // The unknowns, also the initial guess.
@@ -99,8 +102,11 @@ struct Summary {
 std::array<double, 3> odometrySigmas(const SpectralBatchConfig& config, const Odometry& odometry);
 
 // The increment's covariance: the configured sigmas on the diagonal; a reported covariance is used
-// but never below them (estimation::incrementCovariance floors it).
-Eigen::Matrix3d odometryCovariance(const SpectralBatchConfig& config, const Odometry& odometry, double dt_s);
+// but never below them (estimation::incrementCovariance floors it). heading_as_stated: where the
+// message states a covariance, its heading is floored by odo_heading_sigma_rad alone, not by the
+// wheel model (nor is the lateral floor's heading part).
+Eigen::Matrix3d odometryCovariance(const SpectralBatchConfig& config, const Odometry& odometry, double dt_s,
+                                   bool heading_as_stated = false);
 
 // Solves in place. Beacons without ranges are left as they are.
 // evaluate_only: no iterations, final_cost (and its split) is the guess's cost with the final loss.

@@ -10,6 +10,7 @@
 #include <ctime>
 
 #include "initial_guess.hpp"
+#include "roam/estimation/bias_observability.hpp"
 #include "roam/estimation/multilateration.hpp"
 #include "roam/estimation/range_model.hpp"
 #include "roam/estimation/rotation_about_start.hpp"
@@ -317,6 +318,8 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
   }
   problem.odometry_sigma_factor = noise_factors[0];
   problem.range_sigma_factor = noise_factors[1];
+  problem.heading_as_stated = heading_as_stated_;
+  if (heading_as_stated_) state.odometry_calibration[1] = 0.0;
   out.summary = spectral_batch::solve(config_, problem, &state, evaluate_only);
   // The odometry noise scale k by maximum likelihood (profile over k): every odometry sigma times
   // k adds n log k to the negative log-likelihood (n odometry residuals) and divides their squares
@@ -347,6 +350,20 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
     }
   }
   return out;
+}
+
+void SpectralBatchSlam::decideHeadingAsStated(bool final) {
+  // The shared rule on the first ranges' fix times (roam/estimation/bias_observability.hpp),
+  // re-read from the ranges kept: from the start pose at sparse rates the odometry's heading is
+  // taken as stated and the bias held (sparse_heading_as_stated in batch_config.hpp).
+  heading_as_stated_ = false;
+  if (!config_.sparse_heading_as_stated || config_.anchor != SpectralBatchConfig::Anchor::kStartPose) return;
+  estimation::BiasObservability rule(config_.heading_rate_bias_sigma_rad_s, config_.heading_rate_bias_max_drift_rad);
+  for (const Range& range : ranges_)
+    if (rule.addRange(range.utime) != estimation::BiasObservability::Decision::kUndecided) break;
+  heading_as_stated_ = rule.decision() == estimation::BiasObservability::Decision::kHold;
+  setDiagnostic("heading_as_stated", heading_as_stated_ ? 1.0 : 0.0);
+  if (heading_as_stated_ && final) note(rule.heldNote("heading_rate_bias_max_drift_rad"));
 }
 
 void SpectralBatchSlam::alignRotationToOdometry(spectral_batch::State* state) {
@@ -578,8 +595,9 @@ void SpectralBatchSlam::solveNow(bool final) {
     times << " " << what << " " << now_s - mark_s << " s";
     mark_s = now_s;
   };
+  decideHeadingAsStated(final);
   if (final) {
-    bias_rad_s = config_.estimate_odometry_calibration ? scanHeadingRateBias(tied) : 0.0;
+    bias_rad_s = config_.estimate_odometry_calibration && !heading_as_stated_ ? scanHeadingRateBias(tied) : 0.0;
     lap("scan");
     setDiagnostic("heading_rate_bias_scan_rad_s", bias_rad_s);
   }

@@ -110,6 +110,8 @@ class SpectralBatchSlam : public Estimator {
   // start heading and re-solve with it held (a dead-reckoning seed is solved so already).
   void pinStartHeading(Candidate* candidate);
   void solveNow(bool final);
+  // Sets heading_as_stated_ from the ranges so far (sparse_heading_as_stated); final: with its note.
+  void decideHeadingAsStated(bool final);
   // The final solve is not trusted (why): fail (fallback_deadreckoning = false), or publish dead
   // reckoning (alone: its poses and multilaterated beacons) with the reason in STATUS.
   void refuse(Candidate alone, const std::string& why);
@@ -140,6 +142,7 @@ class SpectralBatchSlam : public Estimator {
   std::array<double, 2> shifted_seed_m_{0.0, 0.0};  // translation applied to the spectral seed
   bool spectral_map_taken_ = false;
   int solves_ = 0;
+  bool heading_as_stated_ = false;  // this solve: decideHeadingAsStated
   double odometry_alone_cost_ = 0.0;
   double best_cost_ = 0.0;
   std::array<double, 2> noise_factors_{1.0, 1.0};  // odometry, range: the latest estimate

@@ -452,6 +452,61 @@ TEST(SpectralBatchSlam, SparseAuvLikeRunBothAnchors) {
   }
 }
 
+TEST(SpectralBatchSlam, SparseRangesFromTheStartPoseTakeTheHeadingAsStated) {
+  // A GOATS-like AUV (7 s steps of 5 m, four beacons up to 500 m out, exact heading, 20 %
+  // translation noise) with 30 % of its ranges outliers, odometry stating GOATS 16's covariance
+  // (0.02 m, 0.002 rad per edge). From the start pose the wheel model's heading noise (0.022 rad
+  // per step) lets the solve bend the first lane and carry the beacons with it; with the heading
+  // as stated it follows the odometry's heading and the ranges place the rest.
+  sim::SimConfig sim_config = sim::goatsLikeWorld(2012, 210);
+  sim_config.outlier_fraction = 0.3;
+  sim_config.odo_sigma_reported_m = 0.02;
+  sim_config.odo_heading_sigma_reported_rad = 0.002;
+  const Dataset data = sim::simulate(sim_config);
+  const double dead_reckoning_m = deadReckoningError_m(data);
+  double error_m[2];
+  for (bool as_stated : {false, true}) {
+    SpectralBatchConfig config;
+    config.init = SpectralBatchConfig::Init::kDeadReckoning;
+    config.sparse_heading_as_stated = as_stated;
+    SpectralBatchSlam slam(config);
+    test::feed(data, slam);
+    Path path;
+    ASSERT_TRUE(slam.trajectory(true, &path));
+    error_m[as_stated] = test::meanError_m(path, data.ground_truth);
+    EXPECT_EQ(slam.diagnostics().count("dead_reckoning_fallback") ? slam.diagnostics().at("dead_reckoning_fallback") : 0.0, 0.0);
+    if (as_stated) {
+      EXPECT_EQ(slam.diagnostics().at("heading_as_stated"), 1.0);
+      EXPECT_EQ(slam.odometryCalibration().heading_rate_bias_rad_s, 0.0);
+    }
+    std::printf("GOATS-like, 30 %% outliers, heading as stated %d: %.2f m (dead reckoning %.2f m)\n", as_stated,
+                error_m[as_stated], dead_reckoning_m);
+  }
+  EXPECT_GT(error_m[0], 1.25 * dead_reckoning_m);  // the failure this rule is for
+  EXPECT_LT(error_m[1], 0.8 * dead_reckoning_m);
+
+  // At UWB rates the rule finds the ranges dense: a stated covariance changes nothing, bit for bit.
+  sim::SimConfig dense_config = sim::gyroDriftFigure8World(201, 1500);
+  dense_config.odo_sigma_reported_m = 0.001;
+  dense_config.odo_heading_sigma_reported_rad = 0.0001;
+  const Dataset dense = sim::simulate(dense_config);
+  Path paths[2];
+  for (bool as_stated : {false, true}) {
+    SpectralBatchConfig config;
+    config.init = SpectralBatchConfig::Init::kDeadReckoning;
+    config.sparse_heading_as_stated = as_stated;
+    SpectralBatchSlam slam(config);
+    test::feed(dense, slam);
+    ASSERT_TRUE(slam.trajectory(true, &paths[as_stated]));
+    if (as_stated) EXPECT_EQ(slam.diagnostics().at("heading_as_stated"), 0.0);
+  }
+  ASSERT_EQ(paths[0].size(), paths[1].size());
+  for (size_t k = 0; k < paths[0].size(); ++k) {
+    EXPECT_EQ(paths[0][k].x_m, paths[1][k].x_m) << k;
+    EXPECT_EQ(paths[0][k].heading_rad, paths[1][k].heading_rad) << k;
+  }
+}
+
 }  // namespace
 }  // namespace spectral_batch
 }  // namespace roam

@@ -248,6 +248,11 @@ SimConfig longLanesWorld(uint64_t seed, int num_steps) {
 SimRun simulate(const SimConfig& c) {
   if (c.num_steps < 1) throw std::invalid_argument("num_steps must be >= 1");
   if (c.dt_s <= 0.0) throw std::invalid_argument("dt_s must be > 0");
+  if (!(c.odo_sigma_reported_m >= 0.0) || !(c.odo_heading_sigma_reported_rad >= 0.0) ||
+      ((c.odo_sigma_reported_m > 0.0) != (c.odo_heading_sigma_reported_rad > 0.0)))
+    throw std::invalid_argument(
+        "odo_sigma_reported_m and odo_heading_sigma_reported_rad must both be > 0 (a stated covariance) or both 0 "
+        "(none)");
   if (!(c.hold_s >= 0.0) || !std::isfinite(c.hold_s)) throw std::invalid_argument("hold_s must be a finite number >= 0");
   if (!(c.odo_heading_bias_walk_radps_per_sqrt_s >= 0.0) || !std::isfinite(c.odo_heading_bias_walk_radps_per_sqrt_s))
     throw std::invalid_argument("the gyro bias walk must be a finite number >= 0 (rad/s per sqrt(s))");
@@ -304,6 +309,11 @@ SimRun simulate(const SimConfig& c) {
     if (c.odo_lateral_sigma_rel > 0.0) odo.lateral_m = c.odo_lateral_sigma_rel * u.distance_m * normal(rng);
     const double heading_sigma_rad = k < hold_steps && c.hold_heading_sigma_rad >= 0.0 ? c.hold_heading_sigma_rad : c.odo_heading_sigma_rad;
     odo.delta_heading_rad = u.dheading_rad + bias_radps * c.dt_s + heading_sigma_rad * normal(rng);
+    if (c.odo_sigma_reported_m > 0.0 || c.odo_heading_sigma_reported_rad > 0.0) {
+      odo.covariance = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+      odo.covariance[0] = odo.covariance[4] = c.odo_sigma_reported_m * c.odo_sigma_reported_m;
+      odo.covariance[8] = c.odo_heading_sigma_reported_rad * c.odo_heading_sigma_reported_rad;
+    }
     if (c.odo_heading_bias_walk_radps_per_sqrt_s > 0.0)
       bias_radps += c.odo_heading_bias_walk_radps_per_sqrt_s * std::sqrt(c.dt_s) * bias_normal(bias_rng);
     run.odometry.push_back(odo);

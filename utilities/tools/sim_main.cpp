@@ -67,6 +67,11 @@ int main(int argc, char** argv) {
        "lateral odometry noise std per metre of the step")
       ("odo-distance-scale", po::value(&c.odo_distance_scale)->default_value(c.odo_distance_scale),
        "reported forward distance = scale * true (an odometry scale error)")
+      ("odo-sigma-reported", po::value(&c.odo_sigma_reported_m)->default_value(c.odo_sigma_reported_m),
+       "translation sigma (m, both axes) each odometry message states (a diagonal covariance; "
+       "0 with odo-heading-sigma-reported 0: none stated)")
+      ("odo-heading-sigma-reported", po::value(&c.odo_heading_sigma_reported_rad)->default_value(c.odo_heading_sigma_reported_rad),
+       "heading sigma (rad) each odometry message states")
       ("gyro-bias", po::value(&c.odo_heading_bias_radps)->default_value(c.odo_heading_bias_radps),
        "reported turn = true + bias * dt (rad/s; a drifting gyro)")
       ("gyro-bias-walk", po::value(&c.odo_heading_bias_walk_radps_per_sqrt_s)->default_value(c.odo_heading_bias_walk_radps_per_sqrt_s),
@@ -126,6 +131,10 @@ int main(int argc, char** argv) {
             "--beacon-offset-min: expected 0 <= --beacon-offset-min <= --beacon-offset-max");
     require(c.beacon_survey_sigma_m >= 0 && std::isfinite(c.beacon_survey_sigma_m),
             "--beacon-survey-sigma: expected a finite number >= 0");
+    require(c.odo_sigma_reported_m >= 0 && std::isfinite(c.odo_sigma_reported_m) &&
+                c.odo_heading_sigma_reported_rad >= 0 && std::isfinite(c.odo_heading_sigma_reported_rad) &&
+                (c.odo_sigma_reported_m > 0) == (c.odo_heading_sigma_reported_rad > 0),
+            "--odo-sigma-reported, --odo-heading-sigma-reported: expected both > 0 (a stated covariance) or both 0");
     for (const std::string& gap : range_gaps) {
       try {
         c.range_gaps.push_back(roam::sim::parseRangeGap(gap));
