@@ -647,7 +647,10 @@ void SpectralBatchSlam::solveNow(bool final) {
   const spectral_batch::Summary checked = best.summary;  // the trust checks below judge this solve
   if (final && config_.estimate_odometry_noise && best.summary.usable) refineOdometryNoise(&best);
   if (final && config_.anchor == SpectralBatchConfig::Anchor::kStartPose && best.summary.usable) {
-    if (config_.gauge == SpectralBatchConfig::Gauge::kWindow && config_.gauge_align_m > 0.0)
+    // With the heading as stated the rotation is the start heading carried along the odometry's
+    // heading chain (the solve's own, pose 0 held): a window fit to dead-reckoned positions would
+    // add their lateral wander (GOATS: ~1 m per 5 m step) to it.
+    if (config_.gauge == SpectralBatchConfig::Gauge::kWindow && config_.gauge_align_m > 0.0 && !heading_as_stated_)
       alignRotationToOdometry(&best.state);
     else if (config_.gauge == SpectralBatchConfig::Gauge::kPinned && !config_.estimate_odometry_noise)
       pinStartHeading(&best);
