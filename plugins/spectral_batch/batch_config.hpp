@@ -136,14 +136,15 @@ struct SpectralBatchConfig {
   // turn the heading by more than this (rad), the ranges come too seldom to correct the heading
   // between fixes (AUV rates: GOATS 16 0.185 rad; UWB rates <= 0.06). <= 0: always dense.
   double heading_rate_bias_max_drift_rad = 0.08;
-  // anchor = start_pose where the rule above finds the ranges sparse: the odometry's heading noise
-  // is the log's stated covariance (floored by odo_heading_sigma_rad), not the wheel model below
-  // (odo_heading_sigma_per_sqrt_m, _rel), and the heading-rate bias is held at 0. With no beacon
+  // anchor = start_pose where the rule above finds the ranges sparse and every odometry message
+  // states a covariance: the heading noise is the stated one (floored by odo_heading_sigma_rad),
+  // not the wheel model below (odo_heading_sigma_per_sqrt_m, _rel), the heading-rate bias is held
+  // at 0, and the rotation gauge is the start heading (no gauge_align_m window). With no beacon
   // fixed, a path bent a few degrees per step and its beacons moved with it fit sparse ranges as
-  // well as the straight one, and half of them outliers pick the bend: GOATS-like runs with 30 %
-  // outliers land at up to 3.6 x dead reckoning with the wheel model's 0.022 rad per 5 m step
-  // against a heading stated (and true) to 0.001 rad. An odometry message without a covariance
-  // keeps the wheel model. false: the wheel model everywhere.
+  // well as the straight one, and outliers pick the bend: GOATS-like runs with 30 % outliers
+  // landed at up to 3.6 x dead reckoning with the wheel model's 0.022 rad per 5 m step, against a
+  // heading stated to 0.002 rad (true to 0.001). A log that states nothing keeps the wheel model
+  // and the window. false: the wheel model everywhere.
   bool sparse_heading_as_stated = true;
   double distance_scale_sigma = 0.05;
   // Noise scales estimated from the residuals: after a solve, the RMS whitened odometry residual

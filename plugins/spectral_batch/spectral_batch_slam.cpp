@@ -358,6 +358,11 @@ void SpectralBatchSlam::decideHeadingAsStated(bool final) {
   // taken as stated and the bias held (sparse_heading_as_stated in batch_config.hpp).
   heading_as_stated_ = false;
   if (!config_.sparse_heading_as_stated || config_.anchor != SpectralBatchConfig::Anchor::kStartPose) return;
+  // Only a log that states its odometry noise, every step of it: without a statement the heading
+  // is the wheel model's, and its rotation gauge the window's.
+  if (odometry_.empty() ||
+      !std::all_of(odometry_.begin(), odometry_.end(), [](const Odometry& o) { return o.hasCovariance(); }))
+    return;
   estimation::BiasObservability rule(config_.heading_rate_bias_sigma_rad_s, config_.heading_rate_bias_max_drift_rad);
   for (const Range& range : ranges_)
     if (rule.addRange(range.utime) != estimation::BiasObservability::Decision::kUndecided) break;

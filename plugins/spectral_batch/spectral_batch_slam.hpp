@@ -13,7 +13,9 @@
 // with an annealed robust loss in batch_problem.hpp.
 //
 // Gauge: anchor = start_pose holds pose 0 at INITIAL_POSE (or the origin if none came);
-// anchor = beacons holds the surveyed beacons of BEACONS (beacons not surveyed stay free).
+// anchor = beacons holds the surveyed beacons of BEACONS (beacons not surveyed stay free). From the
+// start pose at sparse range rates, with the odometry's covariance stated, the heading noise is the
+// stated one and the bias is held (sparse_heading_as_stated, batch_config.hpp).
 //
 // Initial guess (first solve): init = spectral takes the spectral core's path (positions and its
 // headings, one pose per odometry step plus the start) and map; init = deadreckoning integrates

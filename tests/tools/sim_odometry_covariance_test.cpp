@@ -13,6 +13,8 @@ namespace {
 
 TEST(SimOdometryCovariance, EveryStepStatesTheDiagonalAndNothingElseChanges) {
   roam::sim::SimConfig config = roam::sim::goatsLikeWorld(7, 40);
+  config.odo_sigma_reported_m = 0.0;
+  config.odo_heading_sigma_reported_rad = 0.0;
   const roam::sim::SimRun plain = roam::sim::simulate(config);
   config.odo_sigma_reported_m = 0.02;
   config.odo_heading_sigma_reported_rad = 0.002;
@@ -37,7 +39,7 @@ TEST(SimOdometryCovariance, EveryStepStatesTheDiagonalAndNothingElseChanges) {
 
 TEST(SimOdometryCovariance, OneWithoutTheOtherIsRefusedByName) {
   roam::sim::SimConfig config = roam::sim::goatsLikeWorld(7, 10);
-  config.odo_sigma_reported_m = 0.02;
+  config.odo_heading_sigma_reported_rad = 0.0;
   EXPECT_THROW(roam::sim::simulate(config), std::invalid_argument);
   roam_test::ScratchDir dir;
   const roam_test::ToolResult made =

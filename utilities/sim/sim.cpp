@@ -177,6 +177,8 @@ SimConfig goatsLikeWorld(uint64_t seed, int num_steps) {
   c.odo_lateral_sigma_rel = 0.2;
   c.odo_heading_sigma_rad = 0.001;
   c.odo_distance_scale = 0.97;
+  c.odo_sigma_reported_m = 0.02;
+  c.odo_heading_sigma_reported_rad = 0.002;
   return c;
 }
 

@@ -158,7 +158,8 @@ SimConfig auvLikeWorld(uint64_t seed, int num_steps);
 // steps): 7 s between poses at 0.7 m/s on a 250 x 150 m lawn mower, 4 beacons up to 250 m
 // outside, each ranged at ~70 % of poses, 2 m of noise stated as 0.75 m, half the ranges outliers
 // from -200 to +20 m, each beacon's own offset of 1-2 m, odometry heading nearly exact (0.001 rad
-// per step), translation 20 % noisy forward and sideways and 3 % short.
+// per step), translation 20 % noisy forward and sideways and 3 % short; each step states GOATS
+// 16's covariance (0.02 m, 0.002 rad).
 SimConfig goatsLikeWorld(uint64_t seed, int num_steps);
 
 // The drifting-gyro world of logs/synthetic/drift-figure8 (there seed 106, 4000 steps): a
