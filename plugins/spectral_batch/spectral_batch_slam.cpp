@@ -368,7 +368,8 @@ void SpectralBatchSlam::decideHeadingAsStated(bool final) {
     if (rule.addRange(range.utime) != estimation::BiasObservability::Decision::kUndecided) break;
   heading_as_stated_ = rule.decision() == estimation::BiasObservability::Decision::kHold;
   setDiagnostic("heading_as_stated", heading_as_stated_ ? 1.0 : 0.0);
-  if (heading_as_stated_ && final) note(rule.heldNote("heading_rate_bias_max_drift_rad"));
+  if (heading_as_stated_ && final)
+    note("took each odometry step's stated heading noise and " + rule.heldNote("heading_rate_bias_max_drift_rad"));
 }
 
 void SpectralBatchSlam::alignRotationToOdometry(spectral_batch::State* state) {

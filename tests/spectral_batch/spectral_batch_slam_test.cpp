@@ -476,6 +476,9 @@ TEST(SpectralBatchSlam, SparseRangesFromTheStartPoseTakeTheHeadingAsStated) {
     if (as_stated) {
       EXPECT_EQ(slam.diagnostics().at("heading_as_stated"), 1.0);
       EXPECT_EQ(slam.odometryCalibration().heading_rate_bias_rad_s, 0.0);
+      const auto note = slam.diagnostics().lower_bound("note: took each odometry step's stated heading noise and held");
+      ASSERT_NE(note, slam.diagnostics().end());
+      EXPECT_NE(note->first.find("heading_rate_bias_max_drift_rad"), std::string::npos) << note->first;
     }
     std::printf("GOATS-like, 30 %% outliers, heading as stated %d: %.2f m (dead reckoning %.2f m)\n", as_stated,
                 error_m[as_stated], dead_reckoning_m);
