@@ -352,7 +352,7 @@ SimRun simulate(const SimConfig& c) {
     r.utime = at.utime;
     r.beacon_id = beacon.id;
     r.range_m = c.range_scale * true_range + c.range_offset_m + sigma * normal(rng);
-    if (c.outlier_fraction > 0.0 && uniform(rng) < c.outlier_fraction) {
+    if (c.outlier_fraction > 0.0 && !(c.outlier_episode_s > 0.0) && uniform(rng) < c.outlier_fraction) {
       r.range_m = true_range + c.outlier_min_m + uniform(rng) * (c.outlier_max_m - c.outlier_min_m);
     }
     r.range_m = std::max(r.range_m, 1e-3);
@@ -385,7 +385,16 @@ SimRun simulate(const SimConfig& c) {
       }
     }
   }
-  // Per-beacon offsets, then gaps: every random draw above is made as without them.
+  // NLOS stretches, per-beacon offsets, then gaps: every random draw above is made as without them.
+  const double duration_s = static_cast<double>(run.ground_truth.back().utime - run.start.utime) * 1e-6;
+  const std::map<int, std::vector<OutlierEpisode>> episodes = outlierEpisodes(c, run.beacons, duration_s);
+  for (Range& r : run.ranges) {
+    const auto found = episodes.find(r.beacon_id);
+    if (found == episodes.end()) continue;
+    const double t_s = static_cast<double>(r.utime - run.start.utime) * 1e-6;
+    for (const OutlierEpisode& e : found->second)
+      if (t_s >= e.start_s && t_s < e.end_s) r.range_m = std::max(r.range_m + e.excess_m, 1e-3);
+  }
   const std::map<int, double> offsets_m = beaconOffsets(c, run.beacons);
   if (!offsets_m.empty())
     for (Range& r : run.ranges) r.range_m = std::max(r.range_m + offsets_m.at(r.beacon_id), 1e-3);
@@ -426,6 +435,36 @@ std::map<int, std::array<double, 2>> beaconSurveyErrors(const SimConfig& c, cons
     errors_m[beacon.id] = {dx, normal(rng)};
   }
   return errors_m;
+}
+
+std::map<int, std::vector<OutlierEpisode>> outlierEpisodes(const SimConfig& c, const Map& beacons,
+                                                           double duration_s) {
+  std::map<int, std::vector<OutlierEpisode>> episodes;
+  if (!(c.outlier_episode_s > 0.0) || !(c.outlier_fraction > 0.0)) return episodes;
+  // Its own stream, as the offsets' and the survey's: a two-state Markov chain per beacon in
+  // continuous time, started from its stationary law (NLOS with probability f).
+  std::mt19937_64 rng(c.seed ^ 0xd6e8feb86659fd93ULL);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const double f = c.outlier_fraction;
+  const double nlos_mean_s = c.outlier_episode_s;
+  const double los_mean_s = f < 1.0 ? c.outlier_episode_s * (1.0 - f) / f : 0.0;
+  for (const Beacon& beacon : beacons) {
+    std::vector<OutlierEpisode>& mine = episodes[beacon.id];
+    bool nlos = uniform(rng) < f;
+    double t_s = 0.0;
+    while (t_s <= duration_s) {
+      const double mean_s = nlos ? nlos_mean_s : los_mean_s;
+      const double length_s = mean_s > 0.0 ? -mean_s * std::log(1.0 - uniform(rng)) : 0.0;
+      if (nlos) {
+        const double excess_m = c.outlier_min_m + uniform(rng) * (c.outlier_max_m - c.outlier_min_m);
+        mine.push_back({t_s, f < 1.0 ? t_s + length_s : duration_s + 1.0, excess_m});
+        if (!(f < 1.0)) break;
+      }
+      t_s += length_s;
+      nlos = !nlos;
+    }
+  }
+  return episodes;
 }
 
 std::map<int, double> beaconOffsets(uint64_t stream_seed, double min_m, double max_m, const Map& beacons) {

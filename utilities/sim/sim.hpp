@@ -107,6 +107,13 @@ struct SimConfig {
                                     // (negative outlier_min: short ranges too, e.g. echoes)
   double outlier_min_m = 5.0;
   double outlier_max_m = 30.0;
+  // Episodes (> 0): outliers come in stretches per beacon, as a wall or a hull blocks the line of
+  // sight for a while, instead of range by range. Each beacon alternates line-of-sight and
+  // non-line-of-sight stretches of exponential length (mean outlier_episode_s in NLOS,
+  // outlier_episode_s * (1 - f) / f in sight, f = outlier_fraction, so f of the time is NLOS);
+  // every range of one stretch is true + one excess U(outlier_min, max), drawn per stretch, + the
+  // range's own noise. Drawn on their own stream: the run is otherwise the same as without them.
+  double outlier_episode_s = 0.0;
   std::vector<RangeGap> range_gaps;  // dropouts of every beacon (start >= 0, duration > 0)
   // Per-beacon range offsets o_b: |o_b| ~ U(min, max), sign random (max 0: none). GOATS' acoustic
   // beacons carry 1-2 m each.
@@ -140,6 +147,16 @@ std::map<int, double> beaconOffsets(uint64_t stream_seed, double min_m, double m
 // with sigma 0): from their own std::mt19937_64 (seed-derived, apart from the run's and the
 // offsets' streams), per beacon in order, x then y.
 std::map<int, std::array<double, 2>> beaconSurveyErrors(const SimConfig& config, const Map& beacons);
+
+// The NLOS stretches of outlier_episode_s, per beacon id: [start_s, end_s) after the start pose
+// and the excess range (m) of every range in it. Empty when outlier_episode_s is 0.
+struct OutlierEpisode {
+  double start_s;
+  double end_s;
+  double excess_m;
+};
+std::map<int, std::vector<OutlierEpisode>> outlierEpisodes(const SimConfig& config, const Map& beacons,
+                                                           double duration_s);
 
 // Parses "START_S:DURATION_S" (e.g. "120:30"); throws std::invalid_argument naming the problem
 // (not two numbers, start < 0, duration <= 0).

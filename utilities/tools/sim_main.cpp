@@ -93,6 +93,10 @@ int main(int argc, char** argv) {
        "fraction of ranges replaced by true + U(outlier-min, outlier-max)")
       ("outlier-min", po::value(&c.outlier_min_m)->default_value(c.outlier_min_m), "m")
       ("outlier-max", po::value(&c.outlier_max_m)->default_value(c.outlier_max_m), "m")
+      ("outlier-episode-s", po::value(&c.outlier_episode_s)->default_value(c.outlier_episode_s),
+       "outliers in stretches per beacon (a wall or a hull in the way): mean NLOS stretch (s); "
+       "--outlier-fraction of the time each beacon is NLOS, every range of a stretch long by one "
+       "excess U(outlier-min, outlier-max) (0: range by range)")
       ("range-gap", po::value(&range_gaps)->composing(),
        "START_S:DURATION_S: no range from any beacon in [start, start + duration), seconds after "
        "the start pose (repeatable; the rest of the run is the same as without it)")
@@ -124,6 +128,8 @@ int main(int argc, char** argv) {
     require(c.mixture_weight1 >= 0 && c.mixture_weight1 <= 1, "--mixture-weight: expected in [0, 1]");
     require(c.outlier_fraction >= 0 && c.outlier_fraction <= 1, "--outlier-fraction: expected in [0, 1]");
     require(c.outlier_min_m <= c.outlier_max_m, "--outlier-min: expected <= --outlier-max");
+    require(std::isfinite(c.outlier_episode_s) && c.outlier_episode_s >= 0,
+            "--outlier-episode-s: expected a finite number >= 0");
     require(c.range_sigma_m >= 0 && c.range_sigma1_m >= 0 && c.bearing_sigma_rad >= 0,
             "--range-sigma, --mixture-sigma, --bearing-sigma: expected >= 0");
     require(c.range_rate_hz > 0, "--range-rate: expected > 0");
