@@ -118,10 +118,22 @@ void SpectralSlam::noSolution(const std::string& reason) {
   // TRAJECTORY, no MAP), and STATUS says why ("rejected data: spectral: needs ranges ...").
   rejectInput("data", reason);
   setDiagnostic("solved_poses", 0.0);
+  // Online, poses may have gone out live from a solve on the data then, which the whole run now
+  // refuses: an empty TRAJECTORY withdraws them (a scorer takes the last TRAJECTORY as the answer).
+  const size_t published = online_ ? online_->published().size() : 0;
+  if (published > 0) {
+    withdrawn_ = true;
+    note("the " + std::to_string(published) +
+         " poses published live are withdrawn (an empty TRAJECTORY): the run as a whole has no solution");
+  }
   setState(EstimatorState::kFinished);
 }
 
 bool SpectralSlam::trajectory(bool /*force*/, Path* path) {
+  if (withdrawn_) {
+    path->clear();
+    return true;
+  }
   if (!solution_) return false;
   *path = solution_->trajectory;
   return true;

@@ -58,6 +58,9 @@ class SpectralSlam : public Estimator {
   int beaconRow(int id);
   void startPath(const Pose& start);
   void noSolution(const std::string& reason);
+  // mode = online, no solution at the end after poses went out live: the final TRAJECTORY is
+  // empty, so what was published is withdrawn rather than scored as the answer.
+  bool withdrawn_ = false;
 
   SpectralConfig config_;
   SpectralProblem problem_;

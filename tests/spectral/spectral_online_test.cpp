@@ -117,5 +117,37 @@ TEST(OnlineSpectral, AgreesWithBatchAtTheEnd) {
   }
 }
 
+TEST(OnlineSpectral, PosesPublishedLiveAreWithdrawnWhenTheRunHasNoSolution) {
+  // NLOS in stretches (the seed sweep's nlos30-episodes, seed 307): the first windows pass the
+  // self-check and 75 poses go out live, 36 m off; the whole run's solve then fails its check.
+  // The final TRAJECTORY is empty (a scorer takes the last TRAJECTORY as the answer), and the
+  // note says so; the batch mode on the same run publishes nothing, as before.
+  sim::SimConfig world = sim::nlos30LawnMowerWorld(307, 3000);
+  world.outlier_episode_s = 20.0;
+  const sim::SimRun run = sim::simulate(world);
+  SpectralConfig config;
+  config.mode = SpectralMode::kOnline;
+  SpectralSlam online(config);
+  feed(online, run);
+  const size_t live = online.takePoses().size();
+  online.finish();
+  EXPECT_FALSE(online.solution().has_value());
+  ASSERT_GT(live, 0u);
+  EXPECT_EQ(online.online()->published().size(), live);
+  Path path{Pose{}};
+  ASSERT_TRUE(online.trajectory(true, &path));
+  EXPECT_TRUE(path.empty());
+  const std::string note = "note: the " + std::to_string(live) +
+                           " poses published live are withdrawn (an empty TRAJECTORY): the run as a whole has no solution";
+  EXPECT_EQ(online.diagnostics().count(note), 1u);
+
+  config.mode = SpectralMode::kBatch;
+  SpectralSlam batch(config);
+  feed(batch, run);
+  batch.finish();
+  EXPECT_TRUE(batch.takePoses().empty());
+  EXPECT_FALSE(batch.trajectory(true, &path));
+}
+
 }  // namespace
 }  // namespace roam::spectral
