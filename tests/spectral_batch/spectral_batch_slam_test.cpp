@@ -499,7 +499,9 @@ TEST(SpectralBatchSlam, SparseRangesFromTheStartPoseTakeTheHeadingAsStated) {
     SpectralBatchSlam slam(config);
     test::feed(dense, slam);
     ASSERT_TRUE(slam.trajectory(true, &paths[as_stated]));
-    if (as_stated) EXPECT_EQ(slam.diagnostics().at("heading_as_stated"), 0.0);
+    if (as_stated) {
+      EXPECT_EQ(slam.diagnostics().at("heading_as_stated"), 0.0);
+    }
   }
   ASSERT_EQ(paths[0].size(), paths[1].size());
   for (size_t k = 0; k < paths[0].size(); ++k) {
