@@ -96,6 +96,15 @@ struct EkfConfig {
   // innovations agree within the gate's width (sqrt(chi2) x the range's sigma): outliers scatter
   // over tens of metres, a lost filter's ranges repeat one innovation (0: never).
   int recover_consistent_gated = 4;
+  // ... and, where the repeated innovation is an excess (ranges long), only where one position
+  // error explains it: that innovation and the innovations of the other surveyed beacons applied
+  // since its run began must all fit |d_b - e| - |d_b| for one offset e (d_b the beacon less the
+  // robot; each within the gate of its own innovation variance). A beacon out of sight for a
+  // while (a wall, a hull: NLOS in stretches) repeats one excess while the others' ranges pass
+  // with none; a lost filter is off against every beacon not square to its error. A blocked line
+  // of sight only lengthens a path, so repeated short ranges are the filter's either way. Needs
+  // three beacons in two directions; fewer: the run alone decides.
+  bool recover_consistent_fit = true;
   // ... and the widening is put on trial: the filter runs on without it while the next this many
   // ranges to known beacons are scored, then the steps since are re-run with it, and whichever
   // run explains those ranges better (outlier-mixture likelihood) is kept. With half the ranges

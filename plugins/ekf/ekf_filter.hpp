@@ -95,6 +95,11 @@ class EkfFilter {
   // Zero-rate update: a stationary robot's reported turn is the bias, turn_rad = b dt + noise.
   Update updateHeadingRateBias(double turn_rad, double dt_s, double var_turn_rad2, double gate_chi2);
 
+  // A beacon's position less the robot's (m): a range to it reads |delta - e| - |delta| long when
+  // the robot is e away from where the filter has it.
+  Eigen::Vector2d beaconFromRobot_m(int beacon_id) const {
+    return x_.segment<2>(index_.at(beacon_id)) - x_.head<2>();
+  }
   // Predicted range (scale * |m - p| + offset + o_m) and its Jacobian row (1 x n).
   double predictRange(int beacon_id, Eigen::RowVectorXd* jacobian) const;
   // Predicted robot-relative bearing and its Jacobian row (1 x n).

@@ -31,17 +31,20 @@
 #include <stdexcept>
 #include <string>
 #include <tuple>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
 
 #include "ekf_slam.hpp"
 
 namespace roam {
 namespace ekf {
 
-void EkfSlam::noteGated(int beacon_id, double innovation_m, double sigma_m, int64_t step_index, bool live) {
-  const double magnitude_m = std::abs(innovation_m);
+void EkfSlam::noteGated(const GatedRange& gated, int64_t step_index, bool live) {
+  const double magnitude_m = std::abs(gated.innovation_m);
   adapt_.min_gated_innovation_m = adapt_.gated_in_row == 0 ? magnitude_m : std::min(adapt_.min_gated_innovation_m, magnitude_m);
   ++adapt_.gated_in_row;
-  const bool consistent = consistentlyGated(beacon_id, innovation_m, sigma_m);
+  const bool consistent = consistentlyGated(gated);
   const bool starved = config_.recover_after_gated > 0 && adapt_.gated_in_row >= config_.recover_after_gated;
   if (!starved && !consistent) return;
   if (live && !finishing_ && config_.recover_trial_ranges > 0) {
@@ -54,7 +57,7 @@ void EkfSlam::noteGated(int beacon_id, double innovation_m, double sigma_m, int6
   if (trial_rerun_) trial_.recording = true;  // the re-run scores from its first widening on
 }
 
-bool EkfSlam::consistentlyGated(int beacon_id, double innovation_m, double sigma_m) {
+bool EkfSlam::consistentlyGated(const GatedRange& gated) {
   // A beacon's ranges gated in a row that repeat one innovation: the filter is off, not the
   // ranges. With outliers spread over a span L the newest agrees with an earlier one by chance
   // with probability ~2 x width / L (NLOS U(2, 40) m at sigma 0.5 m: ~0.09; an AUV's echoes
@@ -65,17 +68,82 @@ bool EkfSlam::consistentlyGated(int beacon_id, double innovation_m, double sigma
   // off itself (its position came from the same path), and widening the pose does not move it
   // (30 % and 50 % NLOS from the start pose: a beacon a few metres off triggered it a dozen
   // times a run).
+  const int beacon_id = gated.beacon_id;
+  const double innovation_m = gated.innovation_m;
   if (config_.recover_consistent_gated == 0 || !isSurveyed(beacon_id)) return false;
   std::vector<double>& innovations = adapt_.gated_innovations_m[beacon_id];
+  if (innovations.empty()) adapt_.gated_since_utime[beacon_id] = gated.utime;
   innovations.push_back(innovation_m);
   const size_t keep = 2 * static_cast<size_t>(config_.recover_consistent_gated);
   if (innovations.size() > keep) innovations.erase(innovations.begin());
-  const double width_m = std::sqrt(gate_range_chi2_) * sigma_m;
+  const double width_m = std::sqrt(gate_range_chi2_) * gated.sigma_m;
   const auto agreeing = std::count_if(innovations.begin(), innovations.end(),
                                       [&](double other) { return std::abs(other - innovation_m) <= width_m; });
   if (agreeing < config_.recover_consistent_gated) return false;
+  // A repeated excess (ranges long: a blocked line of sight only lengthens the path) that no one
+  // position error explains is the beacon's, not the filter's (recover_consistent_fit).
+  if (config_.recover_consistent_fit && innovation_m > 0.0 && !onePositionErrorExplains(gated)) {
+    if (!trial_rerun_) ++consistent_runs_declined_;
+    return false;
+  }
   adapt_.min_gated_innovation_m = std::abs(innovation_m);
   adapt_.gated_innovations_m.erase(beacon_id);
+  adapt_.gated_since_utime.erase(beacon_id);
+  return true;
+}
+
+bool EkfSlam::onePositionErrorExplains(const GatedRange& gated) const {
+  // A filter whose position is e off reads each range |d_b - e| - |d_b| long (d_b the beacon's
+  // position less the robot's; about -u_b . e): the repeated innovation, and the innovation of
+  // every other surveyed beacon applied since the run began, fit one e by least squares
+  // (Gauss-Newton: a lost filter can be tens of metres off, where the linear term is metres
+  // short), each within the gate of its own innovation variance. A wall or a hull blocking one
+  // beacon for a while repeats an excess on that beacon alone while the others pass with none,
+  // and no e fits both where three beacons in two directions pin it. Fewer, or all within ~10
+  // degrees of one line: nothing to test, the run alone decides.
+  struct Row {
+    Eigen::Vector2d beacon_from_robot_m;
+    double innovation_m;
+    double innovation_var_m2;
+  };
+  std::vector<Row> rows{{filter_.beaconFromRobot_m(gated.beacon_id), gated.innovation_m, gated.innovation_var_m2}};
+  const int64_t since = adapt_.gated_since_utime.at(gated.beacon_id);
+  for (const auto& [id, applied] : adapt_.last_applied)
+    if (id != gated.beacon_id && applied.utime >= since)
+      rows.push_back({applied.beacon_from_robot_m, applied.innovation_m, applied.innovation_var_m2});
+  if (rows.size() < 3 || !(gated.innovation_var_m2 > 0.0)) return true;
+  Eigen::Matrix2d directions = Eigen::Matrix2d::Zero();
+  for (const Row& row : rows) {
+    const double distance_m = row.beacon_from_robot_m.norm();
+    if (!(distance_m > 0.0)) return true;
+    const Eigen::Vector2d u = row.beacon_from_robot_m / distance_m;
+    directions += u * u.transpose();
+  }
+  const double smallest = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(directions, Eigen::EigenvaluesOnly).eigenvalues()(0);
+  if (smallest < 0.03 * static_cast<double>(rows.size())) return true;
+  auto residual_m = [](const Row& row, const Eigen::Vector2d& error_m) {
+    return row.innovation_m - ((row.beacon_from_robot_m - error_m).norm() - row.beacon_from_robot_m.norm());
+  };
+  Eigen::Vector2d error_m = Eigen::Vector2d::Zero();
+  for (int iteration = 0; iteration < 10; ++iteration) {
+    Eigen::Matrix2d normal = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+    for (const Row& row : rows) {
+      const Eigen::Vector2d to_beacon_m = row.beacon_from_robot_m - error_m;
+      const double distance_m = to_beacon_m.norm();
+      if (!(distance_m > 0.0)) return true;
+      const Eigen::Vector2d jacobian = to_beacon_m / distance_m;  // d residual / d e
+      normal += jacobian * jacobian.transpose();
+      rhs -= jacobian * residual_m(row, error_m);
+    }
+    const Eigen::Vector2d step_m = normal.ldlt().solve(rhs);
+    error_m += step_m;
+    if (step_m.norm() < 1e-3) break;
+  }
+  for (const Row& row : rows) {
+    const double r = residual_m(row, error_m);
+    if (r * r > gate_range_chi2_ * row.innovation_var_m2) return false;
+  }
   return true;
 }
 

@@ -381,11 +381,15 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
       map_dirty_ = true;
       adapt_.gated_in_row = 0;
       adapt_.gated_innovations_m.erase(range.beacon_id);
+      adapt_.gated_since_utime.erase(range.beacon_id);
+      if (config_.recover_consistent_fit && !range.has_bearing && isSurveyed(range.beacon_id))
+        adapt_.last_applied[range.beacon_id] = {innovation_m, innovation_var_m2, filter_.beaconFromRobot_m(range.beacon_id), range.utime};
       adapt_.motion_noise_scale = std::max(1.0, adapt_.motion_noise_scale * config_.motion_noise_decay);
       adaptRangeNoise(nis);
       countRange(Verdict::kApplied, live, recording);
     } else if (result == EkfFilter::Update::kGated) {
-      noteGated(range.beacon_id, range.range_m - filter_.predictRange(range.beacon_id, nullptr), sigma_m, step_index, live);
+      noteGated({range.beacon_id, range.range_m - filter_.predictRange(range.beacon_id, nullptr), innovation_var_m2, sigma_m, range.utime},
+                step_index, live);
       countRange(Verdict::kGated, live, recording);
     } else {
       countRange(Verdict::kDegenerate, live, recording);
@@ -692,6 +696,7 @@ void EkfSlam::publishDiagnostics() {
   setDiagnostic("ranges_gated_fraction", ranges_seen > 0 ? static_cast<double>(gated_) / static_cast<double>(ranges_seen) : 0.0);
   setDiagnostic("starvation_recoveries", static_cast<double>(recoveries_));
   setDiagnostic("starvation_recoveries_declined", static_cast<double>(recoveries_declined_));
+  setDiagnostic("consistent_gated_runs_declined", static_cast<double>(consistent_runs_declined_));
   setDiagnostic("motion_noise_scale", adapt_.motion_noise_scale);
   setDiagnostic("range_noise_scale", adapt_.range_noise_scale);
   setDiagnostic("predictive_log_likelihood", predictive_log_likelihood_);

@@ -118,6 +118,16 @@ class EkfSlam : public Estimator {
     double min_gated_innovation_m = 0.0;
     // Each beacon's gated innovations (range - predicted, m) since its last applied range.
     std::map<int, std::vector<double>> gated_innovations_m;
+    std::map<int, int64_t> gated_since_utime;  // each such run's first range's time
+    // Each surveyed beacon's last applied range: its innovation, predicted variance, the beacon's
+    // position less the robot's, and time (recover_consistent_fit).
+    struct Applied {
+      double innovation_m;
+      double innovation_var_m2;
+      Eigen::Vector2d beacon_from_robot_m;
+      int64_t utime;
+    };
+    std::map<int, Applied> last_applied;
     double motion_noise_scale = 1.0;  // multiplies the odometry covariance (starvation raises it)
     double range_noise_scale = 1.0;   // multiplies the range variance (adaptRangeNoise)
     double nis_average = 1.0;         // running average of applied ranges' NIS
@@ -189,8 +199,18 @@ class EkfSlam : public Estimator {
   Eigen::Matrix3d scaledMotionNoise(const Eigen::Matrix3d& Q) const;
   EkfFilter::CalibrationPrior calibrationPrior() const;
   // The starvation recovery (ekf_recovery.cpp).
-  void noteGated(int beacon_id, double innovation_m, double sigma_m, int64_t step_index, bool live);
-  bool consistentlyGated(int beacon_id, double innovation_m, double sigma_m);
+  // A range to a known beacon that the gate turned away: its innovation, predicted variance,
+  // the range's sigma and time.
+  struct GatedRange {
+    int beacon_id;
+    double innovation_m;
+    double innovation_var_m2;
+    double sigma_m;
+    int64_t utime;
+  };
+  void noteGated(const GatedRange& gated, int64_t step_index, bool live);
+  bool consistentlyGated(const GatedRange& gated);
+  bool onePositionErrorExplains(const GatedRange& gated) const;
   bool isSurveyed(int beacon_id) const;  // anchor = beacons and in BEACONS
   void widenStarved();
   void startRecoveryTrial(int64_t step_index);
@@ -256,6 +276,7 @@ class EkfSlam : public Estimator {
   double predictive_log_likelihood_ = 0.0;
   int64_t recoveries_ = 0;
   int64_t recoveries_declined_ = 0;   // widenings whose trial the run without them won
+  int64_t consistent_runs_declined_ = 0;  // repeated innovations no one position error explains
   RecoveryTrial trial_;
   bool trial_rerun_ = false;          // re-running the trial's steps with the widening
   bool finishing_ = false;            // finish(): a starvation run widens at once
