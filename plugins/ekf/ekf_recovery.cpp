@@ -71,8 +71,9 @@ bool EkfSlam::consistentlyGated(const GatedRange& gated) {
   const int beacon_id = gated.beacon_id;
   const double innovation_m = gated.innovation_m;
   if (config_.recover_consistent_gated == 0 || !isSurveyed(beacon_id)) return false;
-  std::vector<double>& innovations = adapt_.gated_innovations_m[beacon_id];
-  if (innovations.empty()) adapt_.gated_since_utime[beacon_id] = gated.utime;
+  Adaptation::GatedRun& run = adapt_.gated_runs[beacon_id];
+  if (run.innovations_m.empty()) run.since_utime = gated.utime;
+  std::vector<double>& innovations = run.innovations_m;
   innovations.push_back(innovation_m);
   const size_t keep = 2 * static_cast<size_t>(config_.recover_consistent_gated);
   if (innovations.size() > keep) innovations.erase(innovations.begin());
@@ -87,8 +88,7 @@ bool EkfSlam::consistentlyGated(const GatedRange& gated) {
     return false;
   }
   adapt_.min_gated_innovation_m = std::abs(innovation_m);
-  adapt_.gated_innovations_m.erase(beacon_id);
-  adapt_.gated_since_utime.erase(beacon_id);
+  adapt_.gated_runs.erase(beacon_id);
   return true;
 }
 
@@ -107,20 +107,11 @@ bool EkfSlam::onePositionErrorExplains(const GatedRange& gated) const {
     double innovation_var_m2;
   };
   std::vector<Row> rows{{filter_.beaconFromRobot_m(gated.beacon_id), gated.innovation_m, gated.innovation_var_m2}};
-  const int64_t since = adapt_.gated_since_utime.at(gated.beacon_id);
+  const int64_t since = adapt_.gated_runs.at(gated.beacon_id).since_utime;
   for (const auto& [id, applied] : adapt_.last_applied)
     if (id != gated.beacon_id && applied.utime >= since)
       rows.push_back({applied.beacon_from_robot_m, applied.innovation_m, applied.innovation_var_m2});
   if (rows.size() < 3 || !(gated.innovation_var_m2 > 0.0)) return true;
-  Eigen::Matrix2d directions = Eigen::Matrix2d::Zero();
-  for (const Row& row : rows) {
-    const double distance_m = row.beacon_from_robot_m.norm();
-    if (!(distance_m > 0.0)) return true;
-    const Eigen::Vector2d u = row.beacon_from_robot_m / distance_m;
-    directions += u * u.transpose();
-  }
-  const double smallest = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(directions, Eigen::EigenvaluesOnly).eigenvalues()(0);
-  if (smallest < 0.03 * static_cast<double>(rows.size())) return true;
   auto residual_m = [](const Row& row, const Eigen::Vector2d& error_m) {
     return row.innovation_m - ((row.beacon_from_robot_m - error_m).norm() - row.beacon_from_robot_m.norm());
   };
@@ -135,6 +126,11 @@ bool EkfSlam::onePositionErrorExplains(const GatedRange& gated) const {
       const Eigen::Vector2d jacobian = to_beacon_m / distance_m;  // d residual / d e
       normal += jacobian * jacobian.transpose();
       rhs -= jacobian * residual_m(row, error_m);
+    }
+    if (iteration == 0) {
+      // At e = 0 the normal matrix is the sum of u u' over the beacons' directions u.
+      const double smallest = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(normal, Eigen::EigenvaluesOnly).eigenvalues()(0);
+      if (smallest < 0.03 * static_cast<double>(rows.size())) return true;
     }
     const Eigen::Vector2d step_m = normal.ldlt().solve(rhs);
     error_m += step_m;

@@ -380,8 +380,7 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
     if (result == EkfFilter::Update::kApplied) {
       map_dirty_ = true;
       adapt_.gated_in_row = 0;
-      adapt_.gated_innovations_m.erase(range.beacon_id);
-      adapt_.gated_since_utime.erase(range.beacon_id);
+      adapt_.gated_runs.erase(range.beacon_id);
       if (config_.recover_consistent_fit && !range.has_bearing && isSurveyed(range.beacon_id))
         adapt_.last_applied[range.beacon_id] = {innovation_m, innovation_var_m2, filter_.beaconFromRobot_m(range.beacon_id), range.utime};
       adapt_.motion_noise_scale = std::max(1.0, adapt_.motion_noise_scale * config_.motion_noise_decay);

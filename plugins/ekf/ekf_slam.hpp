@@ -116,9 +116,13 @@ class EkfSlam : public Estimator {
   struct Adaptation {
     int gated_in_row = 0;  // ranges to known beacons gated since the last applied one
     double min_gated_innovation_m = 0.0;
-    // Each beacon's gated innovations (range - predicted, m) since its last applied range.
-    std::map<int, std::vector<double>> gated_innovations_m;
-    std::map<int, int64_t> gated_since_utime;  // each such run's first range's time
+    // Each beacon's run of gated ranges since its last applied range: their innovations (range -
+    // predicted, m) and the run's first range's time.
+    struct GatedRun {
+      std::vector<double> innovations_m;
+      int64_t since_utime = 0;
+    };
+    std::map<int, GatedRun> gated_runs;
     // Each surveyed beacon's last applied range: its innovation, predicted variance, the beacon's
     // position less the robot's, and time (recover_consistent_fit).
     struct Applied {
