@@ -210,6 +210,15 @@ SimConfig slowUwbWorld(uint64_t seed, int num_steps) {
   return c;
 }
 
+SimConfig fastUwbWorld(uint64_t seed, int num_steps) {
+  SimConfig c = gyroDriftFigure8World(seed, num_steps);
+  c.dt_s = 0.02;
+  c.range_rate_hz = 10.0;
+  c.odo_heading_sigma_rad = 0.00095;
+  c.odo_heading_bias_radps = 0.005;
+  return c;
+}
+
 SimConfig nlos30LawnMowerWorld(uint64_t seed, int num_steps) {
   SimConfig c;
   c.seed = seed;

@@ -190,6 +190,11 @@ SimConfig gyroDriftFigure8World(uint64_t seed, int num_steps);
 // sqrt(s) (0.0067 rad per step) and 0.005 rad/s of bias.
 SimConfig slowUwbWorld(uint64_t seed, int num_steps);
 
+// And by a fast one (utilities/seed-sweep's fast-uwb, 15000 steps): 50 Hz odometry at 1 m/s, 10
+// ranges a second round robin, the same gyro noise per sqrt(s) (0.00095 rad per step) and
+// 0.005 rad/s of bias.
+SimConfig fastUwbWorld(uint64_t seed, int num_steps);
+
 // The heavy-NLOS world of logs/synthetic/nlos30-lawnmower (there seed 107, 3000 steps): a
 // 40 x 30 m lawn mower with 5 m lanes at 1 m/s in 0.2 s steps, 6 beacons at 2 Hz round robin,
 // 0.3 m range noise, 30 % of the ranges 2-40 m too long, 2 % odometry and 0.003 rad heading noise.
