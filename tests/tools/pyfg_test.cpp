@@ -161,13 +161,15 @@ TEST(Pyfg, WhatIsNotSupportedIsRefusedNamingTheLine) {
       {head + edge + "VERTEX_SE3:QUAT 0 A2 0 0 0 0 0 0 1\n", ":5: VERTEX_SE3:QUAT: 3-D data is not supported (roam is 2-D)"},
       {head + edge + "VERTEX_SE2 2.0 B0 0 0 0\n", ":5: several robots ('A' and 'B') are not supported: roam runs one robot per log"},
       {head + edge + "EDGE_RANGE 0 A0 A1 3.0 0.01\n", ":5: EDGE_RANGE A0 A1: ranges between poses (inter-robot ranges) are not supported"},
-      {head + "VERTEX_SE2 2.0 A2 2 0 0\n" + edge + "EDGE_SE2 0 A0 A2 2 0 0 0.01 0 0 0.01 0 0.0001\n",
-       ":6: EDGE_SE2 A0 -> A2: only odometry between consecutive poses is supported (loop closures are not)"},
+      {head + edge + "EDGE_SE2 0 A1 A0 -1 0 0 0.01 0 0 0.01 0 x\n", ":5: EDGE_SE2: covariance: expected a number, got 'x'"},
+      {head + edge + "EDGE_SE2 0 A1 A9 -1 0 0 0.01 0 0 0.01 0 0.0001\n", ":5: EDGE_SE2: to 'A9' has no VERTEX_SE2"},
       {head + edge + "EDGE_RANGE 0 A1 L0 4.x 0.01\n", ":5: EDGE_RANGE: range: expected a number, got '4.x'"},
       {head + edge + "EDGE_RANGE 0 A1 L7 4.0 0.01\n", ":5: beacon 'L7' has no VERTEX_XY"},
       {head + edge + "EDGE_RANGE 0 A1 L0 4.0\n", ":5: EDGE_RANGE: expected 5 fields (time a b range variance), got 4"},
-      {head + edge + "EDGE_SE2_XY 0 A1 L0 1 2 0.1 0 0.1\n", ":5: EDGE_SE2_XY: pose-landmark relative measurements are not supported (ranges only)"},
-      {head + edge + "VERTEX_SE2:PRIOR 0 A0 0 0 0 1 0 0 1 0 1\n", ":5: VERTEX_SE2:PRIOR: pose priors are not supported"},
+      {head + edge + "EDGE_SE2_XY 0 A1 L0 1 2 0.1 0\n", ":5: EDGE_SE2_XY: expected 8 fields (time pose beacon dx dy and 3 covariance values), got 7"},
+      {head + edge + "EDGE_SE2_XY 0 A1 L4 1 2 0.1 0 0.1\n", ":5: beacon 'L4' has no VERTEX_XY"},
+      {head + edge + "VERTEX_SE2:PRIOR 0 A0 0 0 zero 1 0 0 1 0 1\n", ":5: VERTEX_SE2:PRIOR: measurement: expected a number, got 'zero'"},
+      {head + edge + "VERTEX_SE2:PRIOR 0 A5 0 0 0 1 0 0 1 0 1\n", ":5: VERTEX_SE2:PRIOR: pose 'A5' has no VERTEX_SE2"},
       {head + edge + "FOO 1 2\n", ":5: unknown type 'FOO'"},
       {head, ":2: pose A1 has no EDGE_SE2 from A0"},
   };
@@ -181,6 +183,48 @@ TEST(Pyfg, WhatIsNotSupportedIsRefusedNamingTheLine) {
           << error.what() << "\nexpected: " << c.expected;
     }
   }
+}
+
+TEST(Pyfg, WhatPyFactorGraphWritesBesideOdometryAndRangesIsSetAsideWithANote) {
+  // PyFactorGraph's writer puts a prior on the first pose, loop closures and pose-landmark
+  // measurements in the same file; roam's estimators take none of them. The file reads as the
+  // same file without them, and a note per kind names its first line and count.
+  roam_test::ScratchDir dir;
+  const std::string poses =
+      "VERTEX_SE2 0.0 A0 0 0 0\nVERTEX_SE2 1.0 A1 1 0 0.1\nVERTEX_SE2 2.0 A2 2 0.1 0.2\nVERTEX_XY L0 5 5\n";
+  const std::string prior = "VERTEX_SE2:PRIOR 0.0 A0 0 0 0 0.01 0 0 0.01 0 0.04\n";
+  const std::string odometry =
+      "EDGE_SE2 1.0 A0 A1 1 0 0.1 0.01 0 0 0.01 0 0.0001\nEDGE_SE2 2.0 A1 A2 1 0.05 0.1 0.01 0 0 0.01 0 0.0001\n";
+  const std::string closures =
+      "EDGE_SE2 3.0 A2 A0 -2 0 -0.2 0.01 0 0 0.01 0 0.04\nEDGE_SE2 4.0 A0 A2 2 0.1 0.2 0.01 0 0 0.01 0 0.04\n"
+      "EDGE_SE2_XY 2.0 A2 L0 3 4.9 0.01 0 0.01\n";
+  const std::string ranges = "EDGE_RANGE 1.0 A1 L0 6.4 0.09\nEDGE_RANGE 2.0 A2 L0 5.8 0.09\n";
+  dir.write("plain.pyfg", poses + odometry + ranges);
+  dir.write("full.pyfg", poses + prior + odometry + closures + ranges);
+  const roam::PyfgImport plain = roam::loadPyfgDataset(dir.file("plain.pyfg"));
+  const roam::PyfgImport full = roam::loadPyfgDataset(dir.file("full.pyfg"));
+  EXPECT_TRUE(plain.notes.empty());
+  ASSERT_EQ(full.dataset.odometry.size(), plain.dataset.odometry.size());
+  for (size_t k = 0; k < plain.dataset.odometry.size(); ++k) {
+    EXPECT_EQ(full.dataset.odometry[k].utime, plain.dataset.odometry[k].utime);
+    EXPECT_EQ(full.dataset.odometry[k].forward_m, plain.dataset.odometry[k].forward_m);
+    EXPECT_EQ(full.dataset.odometry[k].lateral_m, plain.dataset.odometry[k].lateral_m);
+    EXPECT_EQ(full.dataset.odometry[k].delta_heading_rad, plain.dataset.odometry[k].delta_heading_rad);
+  }
+  ASSERT_EQ(full.dataset.ranges.size(), 2u);
+  EXPECT_EQ(full.dataset.ranges[1].range_m, plain.dataset.ranges[1].range_m);
+  ASSERT_EQ(full.notes.size(), 3u);
+  const std::string file = dir.file("full.pyfg");
+  EXPECT_EQ(full.notes[0], file + ":5: set aside 1 pose prior(s) (VERTEX_SE2:PRIOR): the first VERTEX_SE2 is the start "
+                                  "pose, and roam's estimators take no absolute fix");
+  EXPECT_EQ(full.notes[1], file + ":8: set aside 2 loop closure(s) (EDGE_SE2 between poses that are not consecutive) "
+                                  "(the first here): roam's estimators take odometry and ranges");
+  EXPECT_EQ(full.notes[2], file + ":10: set aside 1 pose-landmark measurement(s) (EDGE_SE2_XY): roam's estimators "
+                                  "take ranges only");
+  const auto result = roam_test::runTool(roam_test::tool("roam-import") + " " + file + " -o " + dir.file("f.lcmlog"));
+  EXPECT_EQ(result.status, 0) << result.out;
+  EXPECT_NE(result.out.find("(2 odometry, 2 ranges, 3 ground truth, 1 beacons)"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("roam-import: note: " + full.notes[1] + "\n"), std::string::npos) << result.out;
 }
 
 TEST(Pyfg, RoamImportTakesAPyfgFile) {

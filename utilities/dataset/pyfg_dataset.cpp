@@ -86,6 +86,15 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
   std::map<int, Beacon> beacons;
   std::vector<RawEdge> edges;
   std::vector<RawRange> ranges;
+  // What PyFactorGraph writes beside odometry and ranges, which roam's estimators do not take:
+  // set aside (line of the first of each kind, count) and reported in PyfgImport::notes.
+  struct SetAside {
+    long first_line = 0;
+    long count = 0;
+    void add(long line) {
+      if (count++ == 0) first_line = line;
+    }
+  } pose_priors, loop_closures, pose_landmark_edges;
   Line line;
   line.file = path;
   std::string text;
@@ -156,9 +165,10 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
       edge.line = line.number;
       edge.from = poseIndex(line, line.fields[2], "EDGE_SE2: from");
       edge.to = poseIndex(line, line.fields[3], "EDGE_SE2: to");
-      if (edge.to != edge.from + 1) {
-        line.fail("EDGE_SE2 " + line.fields[2] + " -> " + line.fields[3] +
-                  ": only odometry between consecutive poses is supported (loop closures are not)");
+      if (edge.to != edge.from + 1) {  // a loop closure
+        for (size_t i = 4; i < 13; ++i) line.number_at(i, i < 7 ? "measurement" : "covariance");
+        loop_closures.add(line.number);
+        continue;
       }
       edge.dx = line.number_at(4, "dx");
       edge.dy = line.number_at(5, "dy");
@@ -185,9 +195,16 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
     } else if (type.find("SE3") != std::string::npos || type.find("XYZ") != std::string::npos) {
       line.fail(type + ": 3-D data is not supported (roam is 2-D)");
     } else if (type == "VERTEX_SE2:PRIOR") {
-      line.fail("VERTEX_SE2:PRIOR: pose priors are not supported (the first VERTEX_SE2 is the start pose)");
+      line.expectFields(12, "time name x y theta and 6 covariance values");
+      poseIndex(line, line.fields[2], "VERTEX_SE2:PRIOR: pose");
+      for (size_t i = 3; i < 12; ++i) line.number_at(i, i < 6 ? "measurement" : "covariance");
+      pose_priors.add(line.number);
     } else if (type == "EDGE_SE2_XY") {
-      line.fail("EDGE_SE2_XY: pose-landmark relative measurements are not supported (ranges only)");
+      line.expectFields(9, "time pose beacon dx dy and 3 covariance values");
+      poseIndex(line, line.fields[2], "EDGE_SE2_XY: pose");
+      if (beaconIndex(line, line.fields[3]) < 0) line.fail("EDGE_SE2_XY: '" + line.fields[3] + "' is not a beacon name (e.g. L3)");
+      for (size_t i = 4; i < 9; ++i) line.number_at(i, i < 6 ? "measurement" : "covariance");
+      pose_landmark_edges.add(line.number);
     } else {
       line.fail("unknown type '" + type + "'");
     }
@@ -227,6 +244,15 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
 
   PyfgImport result;
   result.robot_letter = *robot;
+  auto note = [&](const SetAside& set_aside, const std::string& what, const std::string& why) {
+    if (set_aside.count == 0) return;
+    result.notes.push_back(path + ":" + std::to_string(set_aside.first_line) + ": set aside " +
+                           std::to_string(set_aside.count) + " " + what + (set_aside.count > 1 ? " (the first here)" : "") +
+                           ": " + why);
+  };
+  note(pose_priors, "pose prior(s) (VERTEX_SE2:PRIOR)", "the first VERTEX_SE2 is the start pose, and roam's estimators take no absolute fix");
+  note(loop_closures, "loop closure(s) (EDGE_SE2 between poses that are not consecutive)", "roam's estimators take odometry and ranges");
+  note(pose_landmark_edges, "pose-landmark measurement(s) (EDGE_SE2_XY)", "roam's estimators take ranges only");
   ForwardAxis axis = options.forward_axis;
   if (axis == ForwardAxis::kAuto) {
     std::vector<double> abs_dx, abs_dy;

@@ -21,13 +21,18 @@
 // edges is more than twice their median |dx|. Positions and every dead-reckoned position are
 // the same whichever is chosen; only headings and the forward/lateral split differ.
 //
+// What PyFactorGraph also writes for one robot and roam's estimators do not take is checked
+// like the rest and set aside, each kind with a note naming its first line (PyfgImport::notes):
+// pose priors (VERTEX_SE2:PRIOR, commonly one on the first pose), loop closures (EDGE_SE2
+// between poses that are not consecutive) and pose-landmark measurements (EDGE_SE2_XY).
+//
 // Refused with "<file>:<line>: ..." (never skipped): 3-D types, several robots, inter-robot
-// or pose-pose ranges, odometry edges that are not between consecutive poses (loop closures),
-// pose-landmark edges, pose priors, unknown types, bad numbers, unknown or repeated names, a
-// pose without its odometry edge.
+// or pose-pose ranges, unknown types, bad numbers, unknown or repeated names, a pose without
+// its odometry edge.
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "dataset.hpp"
 
@@ -43,6 +48,7 @@ struct PyfgImport {
   Dataset dataset;
   ForwardAxis forward_axis = ForwardAxis::kX;  // the axis used (auto resolved)
   int robot_letter = 'A';
+  std::vector<std::string> notes;  // "<file>:<line>: set aside N ...: why", one per kind
 };
 
 // Throws std::runtime_error naming the file and line.

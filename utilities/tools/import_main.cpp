@@ -70,6 +70,7 @@ int main(int argc, char** argv) {
                   static_cast<long long>(dataset.start.utime),
                   imported.forward_axis == roam::ForwardAxis::kY ? "+y (headings + pi/2)" : "+x",
                   forward_axis == "auto" ? " (auto)" : "");
+      for (const std::string& note : imported.notes) std::printf("roam-import: note: %s\n", note.c_str());
       return 0;
     }
     if (format != "csv") throw std::runtime_error("--format: expected csv | pyfg, got '" + format + "'");
