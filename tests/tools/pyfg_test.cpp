@@ -227,6 +227,47 @@ TEST(Pyfg, WhatPyFactorGraphWritesBesideOdometryAndRangesIsSetAsideWithANote) {
   EXPECT_NE(result.out.find("roam-import: note: " + full.notes[1] + "\n"), std::string::npos) << result.out;
 }
 
+TEST(Pyfg, AFileWithoutPoseTimesIsRefusedUnlessTheIntervalIsGiven) {
+  // Every pose at one time: each odometry step would take no time, and every estimator rejects
+  // it ('time did not advance'). Refused with the option that fixes it; with it, pose i is at
+  // i x the interval.
+  roam_test::ScratchDir dir;
+  dir.write("untimed.pyfg",
+            "VERTEX_SE2 0 A3 0 0 0\nVERTEX_SE2 0 A4 1 0 0\nVERTEX_SE2 0 A5 2 0 0\nVERTEX_XY L0 5 5\n"
+            "EDGE_SE2 0 A3 A4 1 0 0 0.01 0 0 0.01 0 0.0001\nEDGE_SE2 0 A4 A5 1 0 0 0.01 0 0 0.01 0 0.0001\n"
+            "EDGE_RANGE 0 A5 L0 5.8 0.09\n");
+  const std::string file = dir.file("untimed.pyfg");
+  try {
+    roam::loadPyfgDataset(file);
+    ADD_FAILURE() << "accepted a file without pose times";
+  } catch (const std::runtime_error& error) {
+    EXPECT_EQ(std::string(error.what()), file + ": every VERTEX_SE2 is at time 0 s: the file carries no pose times, and the "
+                                                "estimators need them (rates, speeds, a gyro's drift); give the time "
+                                                "between poses with --pose-interval-s SECONDS");
+  }
+  roam::PyfgImportOptions options;
+  options.pose_interval_s = 2.5;
+  const roam::PyfgImport imported = roam::loadPyfgDataset(file, options);
+  ASSERT_EQ(imported.dataset.ground_truth.size(), 3u);
+  EXPECT_EQ(imported.dataset.start.utime, 0);
+  EXPECT_EQ(imported.dataset.odometry[0].utime, 2500000);
+  EXPECT_EQ(imported.dataset.odometry[1].utime, 5000000);
+  EXPECT_EQ(imported.dataset.ranges[0].utime, 5000000);
+  ASSERT_EQ(imported.notes.size(), 1u);
+  EXPECT_EQ(imported.notes[0], file + ": pose i is at i x 2.5 s (--pose-interval-s); the file's pose times are set aside");
+  const auto refused = roam_test::runTool(roam_test::tool("roam-import") + " " + file + " -o " + dir.file("u.lcmlog"));
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.out.find("give the time between poses with --pose-interval-s SECONDS"), std::string::npos) << refused.out;
+  const auto timed = roam_test::runTool(roam_test::tool("roam-import") + " " + file + " -o " + dir.file("u.lcmlog") +
+                                        " --pose-interval-s 2.5");
+  EXPECT_EQ(timed.status, 0) << timed.out;
+  EXPECT_NE(timed.out.find("5.000 s from utime 0"), std::string::npos) << timed.out;
+  const auto negative = roam_test::runTool(roam_test::tool("roam-import") + " " + file + " -o " + dir.file("u.lcmlog") +
+                                           " --pose-interval-s -1");
+  EXPECT_EQ(negative.status, 2);
+  EXPECT_NE(negative.out.find("--pose-interval-s: expected seconds >= 0"), std::string::npos) << negative.out;
+}
+
 TEST(Pyfg, RoamImportTakesAPyfgFile) {
   ROAM_SKIP_WITHOUT_SHARED_DATA(kGoats);
   roam_test::ScratchDir dir;

@@ -42,6 +42,10 @@ enum class ForwardAxis { kX, kY, kAuto };
 
 struct PyfgImportOptions {
   ForwardAxis forward_axis = ForwardAxis::kAuto;
+  // > 0: pose i (counted from the first) is at i x pose_interval_s seconds, whatever the file
+  // says; for files that carry no pose times (every VERTEX_SE2 at one time, which is refused
+  // without it).
+  double pose_interval_s = 0.0;
 };
 
 struct PyfgImport {

@@ -5,6 +5,7 @@
 // is known from the argument (a folder: csv; a name ending in .pyfg: pyfg) or --format. Prints
 // a one-line summary; exit 2 with a one-line error.
 #include <boost/program_options.hpp>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -18,6 +19,7 @@ namespace po = boost::program_options;
 
 int main(int argc, char** argv) {
   std::string dir, output, format, forward_axis = "auto";
+  double pose_interval_s = 0.0;
   roam::CsvImportOptions options;
   po::options_description visible(
       "roam-import DIR -o LOG: a run in the CSV layout (odometry.csv, ranges.csv, groundtruth.csv,\n"
@@ -30,6 +32,9 @@ int main(int argc, char** argv) {
       ("forward-axis", po::value(&forward_axis)->default_value(forward_axis),
        "pyfg: the body axis the robot moves along: x | y | auto (y when the edges' median |dy| is "
        "over twice their median |dx|)")
+      ("pose-interval-s", po::value(&pose_interval_s)->default_value(0.0),
+       "pyfg: SECONDS between consecutive poses, for a file whose poses carry no times (all at one "
+       "time); 0: the file's times")
       ("heading-offset", po::value(&options.heading_offset_rad)->default_value(0.0),
        "RAD added to every ground-truth heading (e.g. 3.14159265 for reversed headings)")
       ("odometry-from-path", po::value(&options.odometry_from_path),
@@ -58,6 +63,9 @@ int main(int argc, char** argv) {
       if (forward_axis == "x") pyfg.forward_axis = roam::ForwardAxis::kX;
       else if (forward_axis == "y") pyfg.forward_axis = roam::ForwardAxis::kY;
       else if (forward_axis != "auto") throw std::runtime_error("--forward-axis: expected x | y | auto, got '" + forward_axis + "'");
+      if (!(pose_interval_s >= 0.0) || !std::isfinite(pose_interval_s))
+        throw std::runtime_error("--pose-interval-s: expected seconds >= 0, got " + std::to_string(pose_interval_s));
+      pyfg.pose_interval_s = pose_interval_s;
       if (!vm["heading-offset"].defaulted() || !options.odometry_from_path.empty())
         throw std::runtime_error("--heading-offset and --odometry-from-path are for the CSV layout, not pyfg");
       const roam::PyfgImport imported = roam::loadPyfgDataset(dir, pyfg);
@@ -74,6 +82,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (format != "csv") throw std::runtime_error("--format: expected csv | pyfg, got '" + format + "'");
+    if (!vm["pose-interval-s"].defaulted()) throw std::runtime_error("--pose-interval-s is for pyfg, not the CSV layout");
     const roam::Dataset dataset = roam::loadCsvDataset(dir, options);
     const roam::LogWriteSummary s = roam::writeDatasetLog(output, dataset);
     std::printf("roam-import: %s: %ld events (%ld odometry%s, %ld ranges, %ld ground truth, %ld beacons), "
