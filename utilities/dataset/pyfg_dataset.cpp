@@ -227,8 +227,9 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
   } else if (poses.size() > 1 && poses.begin()->second.utime == poses.rbegin()->second.utime) {
     char at_s[32];
     std::snprintf(at_s, sizeof at_s, "%.6g", 1e-6 * static_cast<double>(poses.begin()->second.utime));
-    throw std::runtime_error(path + ": every VERTEX_SE2 is at time " + at_s + " s: the file carries no pose times, and the estimators need them (rates, speeds, a gyro's "
-                             "drift); give the time between poses with --pose-interval-s SECONDS");
+    throw std::runtime_error(path + ": every VERTEX_SE2 is at time " + at_s +
+                             " s: the file carries no pose times, and the estimators need them (rates, speeds, a "
+                             "gyro's drift); give the time between poses with --pose-interval-s SECONDS");
   }
   std::map<int, const RawEdge*> edge_into;
   for (const RawEdge& edge : edges) {
@@ -258,8 +259,10 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
                            std::to_string(set_aside.count) + " " + what + (set_aside.count > 1 ? " (the first here)" : "") +
                            ": " + why);
   };
-  note(pose_priors, "pose prior(s) (VERTEX_SE2:PRIOR)", "the first VERTEX_SE2 is the start pose, and roam's estimators take no absolute fix");
-  note(loop_closures, "loop closure(s) (EDGE_SE2 between poses that are not consecutive)", "roam's estimators take odometry and ranges");
+  note(pose_priors, "pose prior(s) (VERTEX_SE2:PRIOR)",
+       "the first VERTEX_SE2 is the start pose, and roam's estimators take no absolute fix");
+  note(loop_closures, "loop closure(s) (EDGE_SE2 between poses that are not consecutive)",
+       "roam's estimators take odometry and ranges");
   note(pose_landmark_edges, "pose-landmark measurement(s) (EDGE_SE2_XY)", "roam's estimators take ranges only");
   if (options.pose_interval_s > 0.0) {
     char interval_s[32];

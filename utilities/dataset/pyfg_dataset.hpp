@@ -28,7 +28,8 @@
 //
 // Refused with "<file>:<line>: ..." (never skipped): 3-D types, several robots, inter-robot
 // or pose-pose ranges, unknown types, bad numbers, unknown or repeated names, a pose without
-// its odometry edge.
+// its odometry edge, and poses that all carry one time (unless PyfgImportOptions::pose_interval_s
+// stamps them).
 #pragma once
 
 #include <string>
