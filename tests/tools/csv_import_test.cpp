@@ -96,12 +96,56 @@ TEST(CsvImport, ShortRowNamesLine) {
   EXPECT_EQ(loadError(dir.path()), dir.file("landmarks.csv") + ":3: expected 3 fields as in the header, got 2");
 }
 
-TEST(CsvImport, UnknownBeaconNamesFileLineAndKnownIds) {
+TEST(CsvImport, RangesToABeaconLandmarksDoesNotHoldAreKeptWithANote) {
+  // From the start pose a beacon needs no survey: its ranges are the run's, and the import keeps
+  // them (it used to refuse the whole run). The note names the ids, the count and the first line.
   roam_test::ScratchDir dir;
   writeValidRun(dir);
-  dir.write("ranges.csv", "time_s,beacon_id,range_m\n10.1,0,4.25\n10.3,9,8.5\n");
-  EXPECT_EQ(loadError(dir.path()),
-            dir.file("ranges.csv") + ":3: column 'beacon_id': beacon 9 is not in landmarks.csv (ids: 0, 1)");
+  dir.write("ranges.csv", "time_s,beacon_id,range_m\n10.1,0,4.25\n10.3,9,8.5\n10.35,7,3.0\n10.4,9,8.0\n");
+  std::vector<std::string> notes;
+  const roam::Dataset d = roam::loadCsvDataset(dir.path(), {}, &notes);
+  ASSERT_EQ(d.ranges.size(), 4u);
+  EXPECT_EQ(d.ranges[1].beacon_id, 9);
+  EXPECT_EQ(d.ranges[1].range_m, 8.5);
+  EXPECT_EQ(d.ranges[2].beacon_id, 7);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_EQ(notes[0], dir.file("ranges.csv") + ":3: kept 3 range(s) to beacon(s) 7, 9, which landmarks.csv does not "
+                                               "hold: from the start pose the estimators place them from their "
+                                               "ranges, with surveyed beacons they count them as rejected or map them");
+  // Listed beacons only: no note.
+  writeValidRun(dir);
+  notes.clear();
+  roam::loadCsvDataset(dir.path(), {}, &notes);
+  EXPECT_TRUE(notes.empty());
+}
+
+TEST(CsvImport, SenderIdTellsRangesBetweenBeaconsAndReversedOnes) {
+  // Plaza's TD: sender_id is the radio that sent (the robot's, 2 on Plaza 1), beacon_id the one
+  // that answered. A sender that is a listed beacon answering a node that is not is the robot
+  // ranged from that beacon; two listed beacons are a range no estimator takes.
+  roam_test::ScratchDir dir;
+  writeValidRun(dir);
+  dir.write("ranges.csv",
+            "time_s,beacon_id,range_m,sender_id\n10.1,0,4.25,2\n10.2,1,7.0,0\n10.3,2,8.5,1\n10.35,2,8.4,1\n"
+            "10.4,0,4.5,2\n");
+  std::vector<std::string> notes;
+  const roam::Dataset d = roam::loadCsvDataset(dir.path(), {}, &notes);
+  ASSERT_EQ(d.ranges.size(), 4u);
+  EXPECT_EQ(d.ranges[0].beacon_id, 0);
+  EXPECT_EQ(d.ranges[1].beacon_id, 1);  // sender 1 to node 2 (the robot): a range to beacon 1
+  EXPECT_EQ(d.ranges[1].range_m, 8.5);
+  EXPECT_EQ(d.ranges[1].utime, 10300000);
+  EXPECT_EQ(d.ranges[2].beacon_id, 1);
+  EXPECT_EQ(d.ranges[3].range_m, 4.5);
+  ASSERT_EQ(notes.size(), 2u);
+  EXPECT_EQ(notes[0], dir.file("ranges.csv") + ":4: read 2 range(s) whose sender_id is a beacon and beacon_id is not as "
+                                               "ranges from the robot to that beacon");
+  EXPECT_EQ(notes[1], dir.file("ranges.csv") + ":3: set aside 1 range(s) between two beacons (sender_id and beacon_id "
+                                               "both in landmarks.csv): roam's estimators take ranges from the robot");
+  const auto result = roam_test::runTool(roam_test::tool("roam-import") + " " + dir.path() + " -o " + dir.file("r.lcmlog"));
+  EXPECT_EQ(result.status, 0) << result.out;
+  EXPECT_NE(result.out.find("(2 odometry, 4 ranges, 3 ground truth, 2 beacons)"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("roam-import: note: " + notes[1] + "\n"), std::string::npos) << result.out;
 }
 
 TEST(CsvImport, MissingFileIsNamed) {

@@ -112,41 +112,79 @@ std::vector<Odometry> odometryFromPathCsv(const std::string& path, const Pose& s
   return odometry;
 }
 
-std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons) {
+std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons, std::vector<std::string>* notes) {
   const CsvTable table(path);
   const size_t t = table.column("time_s"), id = table.column("beacon_id"), range = table.column("range_m");
   const bool has_sigma = table.hasColumn("sigma_m");
   const bool has_bearing = table.hasColumn("bearing_rad");
+  const bool has_sender = table.hasColumn("sender_id");
   const size_t sigma = has_sigma ? table.column("sigma_m") : 0;
   const size_t bearing = has_bearing ? table.column("bearing_rad") : 0;
+  const size_t sender = has_sender ? table.column("sender_id") : 0;
   std::set<int> known;
-  std::string known_list;
-  for (const Beacon& b : beacons) {
-    known.insert(b.id);
-    known_list += (known_list.empty() ? "" : ", ") + std::to_string(b.id);
-  }
-  std::vector<Range> ranges(table.rows());
+  for (const Beacon& b : beacons) known.insert(b.id);
+  // Ranges kept to beacons landmarks.csv does not hold, and ranges set aside between two beacons:
+  // the ids and the first line of each, for the notes.
+  std::set<int> unlisted;
+  int unlisted_line = 0;
+  long unlisted_count = 0, between_beacons = 0, reversed = 0;
+  int between_line = 0, reversed_line = 0;
+  std::vector<Range> ranges;
+  ranges.reserve(table.rows());
   for (size_t r = 0; r < table.rows(); ++r) {
-    Range& out = ranges[r];
+    Range out;
     out.utime = utimeFromSeconds(table.number(r, t));
     out.beacon_id = table.integer(r, id);
-    if (!known.count(out.beacon_id)) {
-      throw std::runtime_error(table.where(r, id) + "beacon " + std::to_string(out.beacon_id) +
-                               " is not in landmarks.csv (ids: " + known_list + ")");
-    }
     out.range_m = table.number(r, range);
     if (has_sigma) out.sigma_m = table.number(r, sigma);
     if (has_bearing) {
       out.has_bearing = true;
       out.bearing_rad = table.number(r, bearing);
     }
+    if (has_sender && known.count(table.integer(r, sender))) {
+      // The sender is a beacon: between two beacons, or from a beacon to the robot.
+      if (known.count(out.beacon_id)) {
+        if (between_beacons++ == 0) between_line = table.line(r);
+        continue;
+      }
+      if (out.has_bearing) {
+        throw std::runtime_error(table.where(r, sender) + "a bearing from beacon " + std::to_string(table.integer(r, sender)) +
+                                 " to node " + std::to_string(out.beacon_id) + ": bearings are from the robot");
+      }
+      if (reversed++ == 0) reversed_line = table.line(r);
+      out.beacon_id = table.integer(r, sender);
+    }
+    if (!known.count(out.beacon_id)) {
+      if (unlisted_count++ == 0) unlisted_line = table.line(r);
+      unlisted.insert(out.beacon_id);
+    }
+    ranges.push_back(out);
   }
   std::stable_sort(ranges.begin(), ranges.end(),
                    [](const Range& a, const Range& b) { return a.utime < b.utime; });
+  if (notes) {
+    auto lineOf = [&](int line) { return path + ":" + std::to_string(line) + ": "; };
+    if (unlisted_count > 0) {
+      std::string ids;
+      for (int unlisted_id : unlisted) ids += (ids.empty() ? "" : ", ") + std::to_string(unlisted_id);
+      notes->push_back(lineOf(unlisted_line) + "kept " + std::to_string(unlisted_count) + " range(s) to beacon(s) " + ids +
+                       ", which landmarks.csv does not hold: from the start pose the estimators place them from "
+                       "their ranges, with surveyed beacons they count them as rejected or map them");
+    }
+    if (reversed > 0) {
+      notes->push_back(lineOf(reversed_line) + "read " + std::to_string(reversed) +
+                       " range(s) whose sender_id is a beacon and beacon_id is not as ranges from the robot to that beacon");
+    }
+    if (between_beacons > 0) {
+      notes->push_back(lineOf(between_line) + "set aside " + std::to_string(between_beacons) +
+                       " range(s) between two beacons (sender_id and beacon_id both in landmarks.csv): roam's "
+                       "estimators take ranges from the robot");
+    }
+  }
   return ranges;
 }
 
-Dataset loadCsvDataset(const std::string& dir, const CsvImportOptions& options) {
+Dataset loadCsvDataset(const std::string& dir, const CsvImportOptions& options, std::vector<std::string>* notes) {
   Dataset dataset;
   const std::string gt_file = joinPath(dir, "groundtruth.csv");
   dataset.ground_truth = loadPathCsv(gt_file, options.heading_offset_rad);
@@ -159,7 +197,7 @@ Dataset loadCsvDataset(const std::string& dir, const CsvImportOptions& options) 
                          ? loadOdometryCsv(joinPath(dir, "odometry.csv"))
                          : odometryFromPathCsv(options.odometry_from_path, dataset.start,
                                                options.heading_offset_rad);
-  dataset.ranges = loadRangesCsv(joinPath(dir, "ranges.csv"), dataset.beacons);
+  dataset.ranges = loadRangesCsv(joinPath(dir, "ranges.csv"), dataset.beacons, notes);
   return dataset;
 }
 

@@ -2,11 +2,18 @@
 //
 // Files in DIR (columns found by header name, in any order; extra columns are ignored):
 //   odometry.csv     time_s, delta_distance_m, delta_heading_rad   (end of each step)
-//   ranges.csv       time_s, beacon_id, range_m [, sigma_m] [, bearing_rad]
+//   ranges.csv       time_s, beacon_id, range_m [, sigma_m] [, bearing_rad] [, sender_id]
 //   groundtruth.csv  time_s, x_m, y_m, heading_rad
 //   landmarks.csv    beacon_id, x_m, y_m
 // Times become utime = llround(time_s * 1e6). Ranges are sorted by time (stable: equal times
 // keep file order). The start pose is the first ground-truth row (utime = its time).
+//
+// Ranges that a SLAM run can use but a surveyed map does not list are kept, with a note (the
+// `notes` argument; roam-import prints them): ranges to a beacon id that landmarks.csv does not
+// hold (from the start pose the estimators place it from its ranges). With a sender_id column
+// (Plaza's TD: the radio that sent, the robot's, and beacon_id the one that answered), a range
+// whose sender is a listed beacon and whose beacon_id is not is read as from the robot to that
+// beacon, and one between two listed beacons is set aside, each with a note.
 //
 // Odometry from a path (CsvImportOptions::odometry_from_path, a CSV in the ground-truth
 // layout; heading_rad optional): one odometry step k per path row k >= 1, stamped with row k's
@@ -27,6 +34,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "dataset.hpp"
 
@@ -40,7 +48,8 @@ struct CsvImportOptions {
 // Steps shorter than this (m) have no direction of travel (see above).
 constexpr double kMinStepForDirection_m = 1e-9;
 
-Dataset loadCsvDataset(const std::string& dir, const CsvImportOptions& options = {});
+Dataset loadCsvDataset(const std::string& dir, const CsvImportOptions& options = {},
+                       std::vector<std::string>* notes = nullptr);
 
 // The pieces, for tools and tests that read one file alone.
 Path loadPathCsv(const std::string& path, double heading_offset_rad = 0.0);
@@ -48,7 +57,7 @@ Map loadLandmarksCsv(const std::string& path);
 std::vector<Odometry> loadOdometryCsv(const std::string& path);
 std::vector<Odometry> odometryFromPathCsv(const std::string& path, const Pose& start,
                                           double heading_offset_rad = 0.0);
-// Sorted by time (stable); every beacon id must be in `beacons`.
-std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons);
+// Sorted by time (stable); `beacons` (landmarks.csv) decides the notes and sender_id above.
+std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons, std::vector<std::string>* notes = nullptr);
 
 }  // namespace roam

@@ -10,6 +10,7 @@
 #include <exception>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "csv_dataset.hpp"
 #include "dataset_log.hpp"
@@ -83,7 +84,8 @@ int main(int argc, char** argv) {
     }
     if (format != "csv") throw std::runtime_error("--format: expected csv | pyfg, got '" + format + "'");
     if (!vm["pose-interval-s"].defaulted()) throw std::runtime_error("--pose-interval-s is for pyfg, not the CSV layout");
-    const roam::Dataset dataset = roam::loadCsvDataset(dir, options);
+    std::vector<std::string> notes;
+    const roam::Dataset dataset = roam::loadCsvDataset(dir, options, &notes);
     const roam::LogWriteSummary s = roam::writeDatasetLog(output, dataset);
     std::printf("roam-import: %s: %ld events (%ld odometry%s, %ld ranges, %ld ground truth, %ld beacons), "
                 "%.3f s from utime %lld\n",
@@ -94,6 +96,7 @@ int main(int argc, char** argv) {
                     ? 0.0
                     : 1e-6 * static_cast<double>(dataset.ground_truth.back().utime - dataset.start.utime),
                 static_cast<long long>(dataset.start.utime));
+    for (const std::string& note : notes) std::printf("roam-import: note: %s\n", note.c_str());
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "roam-import: error: %s\n", e.what());
