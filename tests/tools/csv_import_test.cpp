@@ -120,32 +120,46 @@ TEST(CsvImport, RangesToABeaconLandmarksDoesNotHoldAreKeptWithANote) {
 }
 
 TEST(CsvImport, SenderIdTellsRangesBetweenBeaconsAndReversedOnes) {
-  // Plaza's TD: sender_id is the radio that sent (the robot's, 2 on Plaza 1), beacon_id the one
-  // that answered. A sender that is a listed beacon answering a node that is not is the robot
-  // ranged from that beacon; two listed beacons are a range no estimator takes.
+  // Plaza's TD: sender_id is the radio that sent (the robot's, 2 on every row of Plaza 1),
+  // beacon_id the one that answered. The robot's radio is the most frequent sender (here 2, three
+  // of six rows): a range to it is from it to its sender; beacons ranging each other (0 -> 1, and
+  // 1 -> the unlisted 9) are set aside.
   roam_test::ScratchDir dir;
   writeValidRun(dir);
   dir.write("ranges.csv",
-            "time_s,beacon_id,range_m,sender_id\n10.1,0,4.25,2\n10.2,1,7.0,0\n10.3,2,8.5,1\n10.35,2,8.4,1\n"
-            "10.4,0,4.5,2\n");
+            "time_s,beacon_id,range_m,sender_id\n10.1,0,4.25,2\n10.2,1,7.0,0\n10.3,2,8.5,1\n10.35,9,3.3,2\n"
+            "10.4,0,4.5,2\n10.45,9,2.0,1\n");
   std::vector<std::string> notes;
   const roam::Dataset d = roam::loadCsvDataset(dir.path(), {}, &notes);
   ASSERT_EQ(d.ranges.size(), 4u);
   EXPECT_EQ(d.ranges[0].beacon_id, 0);
-  EXPECT_EQ(d.ranges[1].beacon_id, 1);  // sender 1 to node 2 (the robot): a range to beacon 1
+  EXPECT_EQ(d.ranges[1].beacon_id, 1);  // sent by beacon 1 to the robot's radio: a range to beacon 1
   EXPECT_EQ(d.ranges[1].range_m, 8.5);
   EXPECT_EQ(d.ranges[1].utime, 10300000);
-  EXPECT_EQ(d.ranges[2].beacon_id, 1);
+  EXPECT_EQ(d.ranges[2].beacon_id, 9);  // from the robot to an unlisted beacon: kept
   EXPECT_EQ(d.ranges[3].range_m, 4.5);
-  ASSERT_EQ(notes.size(), 2u);
-  EXPECT_EQ(notes[0], dir.file("ranges.csv") + ":4: read 2 range(s) whose sender_id is a beacon and beacon_id is not as "
-                                               "ranges from the robot to that beacon");
-  EXPECT_EQ(notes[1], dir.file("ranges.csv") + ":3: set aside 1 range(s) between two beacons (sender_id and beacon_id "
-                                               "both in landmarks.csv): roam's estimators take ranges from the robot");
+  const std::string file = dir.file("ranges.csv");
+  ASSERT_EQ(notes.size(), 3u);
+  EXPECT_EQ(notes[0].rfind(file + ":5: kept 1 range(s) to beacon(s) 9, which landmarks.csv does not hold", 0), 0u) << notes[0];
+  EXPECT_EQ(notes[1], file + ":4: read 1 range(s) to the robot's radio (2, the most frequent sender_id) as ranges from "
+                             "it to their sender");
+  EXPECT_EQ(notes[2], file + ":3: set aside 2 range(s) between two nodes neither of which is the robot's radio (2, the "
+                             "most frequent sender_id): roam's estimators take ranges from the robot");
   const auto result = roam_test::runTool(roam_test::tool("roam-import") + " " + dir.path() + " -o " + dir.file("r.lcmlog"));
   EXPECT_EQ(result.status, 0) << result.out;
   EXPECT_NE(result.out.find("(2 odometry, 4 ranges, 3 ground truth, 2 beacons)"), std::string::npos) << result.out;
-  EXPECT_NE(result.out.find("roam-import: note: " + notes[1] + "\n"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("roam-import: note: " + notes[2] + "\n"), std::string::npos) << result.out;
+
+  // A most frequent sender that is a listed beacon is not the robot's radio: the column is not
+  // read, and every row is a range to its beacon_id.
+  dir.write("ranges.csv", "time_s,beacon_id,range_m,sender_id\n10.1,0,4.25,1\n10.2,1,7.0,1\n10.3,0,8.5,2\n");
+  notes.clear();
+  const roam::Dataset unread = roam::loadCsvDataset(dir.path(), {}, &notes);
+  ASSERT_EQ(unread.ranges.size(), 3u);
+  EXPECT_EQ(unread.ranges[1].beacon_id, 1);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_EQ(notes[0], file + ":1: sender_id not read: its most frequent value, 1, is a beacon in landmarks.csv, not the "
+                             "robot's radio");
 }
 
 TEST(CsvImport, MissingFileIsNamed) {

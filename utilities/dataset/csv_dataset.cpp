@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -125,10 +127,28 @@ std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons, st
   for (const Beacon& b : beacons) known.insert(b.id);
   // Ranges kept to beacons landmarks.csv does not hold, and ranges set aside between two beacons:
   // the ids and the first line of each, for the notes.
+  // sender_id: the robot's radio is the most frequent sender (Plaza 1: 2 on every row; ties: the
+  // smallest). A range from it is to beacon_id, one to it is from the sender, and one between two
+  // other nodes (beacons ranging each other) is set aside. A most frequent sender that is a
+  // listed beacon cannot be the robot's radio: the column is not read.
+  std::optional<int> robot_radio;
+  std::string sender_note;
+  if (has_sender && table.rows() > 0) {
+    std::map<int, long> sent;
+    for (size_t r = 0; r < table.rows(); ++r) ++sent[table.integer(r, sender)];
+    const auto most = std::max_element(sent.begin(), sent.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+    if (known.count(most->first)) {
+      sender_note = path + ":1: sender_id not read: its most frequent value, " + std::to_string(most->first) +
+                    ", is a beacon in landmarks.csv, not the robot's radio";
+    } else {
+      robot_radio = most->first;
+    }
+  }
+  // Ranges kept to beacons landmarks.csv does not hold, read the other way round, and set aside:
+  // the count and the first line of each, for the notes.
   std::set<int> unlisted;
-  int unlisted_line = 0;
-  long unlisted_count = 0, between_beacons = 0, reversed = 0;
-  int between_line = 0, reversed_line = 0;
+  long unlisted_count = 0, reversed = 0, between_others = 0;
+  int unlisted_line = 0, reversed_line = 0, between_line = 0;
   std::vector<Range> ranges;
   ranges.reserve(table.rows());
   for (size_t r = 0; r < table.rows(); ++r) {
@@ -141,15 +161,11 @@ std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons, st
       out.has_bearing = true;
       out.bearing_rad = table.number(r, bearing);
     }
-    if (has_sender && known.count(table.integer(r, sender))) {
-      // The sender is a beacon: between two beacons, or from a beacon to the robot.
-      if (known.count(out.beacon_id)) {
-        if (between_beacons++ == 0) between_line = table.line(r);
+    if (robot_radio && table.integer(r, sender) != *robot_radio) {
+      // Neither end is the robot (or a bearing, which only the robot measures, on a range to it).
+      if (out.beacon_id != *robot_radio || out.has_bearing) {
+        if (between_others++ == 0) between_line = table.line(r);
         continue;
-      }
-      if (out.has_bearing) {
-        throw std::runtime_error(table.where(r, sender) + "a bearing from beacon " + std::to_string(table.integer(r, sender)) +
-                                 " to node " + std::to_string(out.beacon_id) + ": bearings are from the robot");
       }
       if (reversed++ == 0) reversed_line = table.line(r);
       out.beacon_id = table.integer(r, sender);
@@ -172,14 +188,15 @@ std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons, st
                        "their ranges, with surveyed beacons they count them as rejected or map them");
     }
     if (reversed > 0) {
-      notes->push_back(lineOf(reversed_line) + "read " + std::to_string(reversed) +
-                       " range(s) whose sender_id is a beacon and beacon_id is not as ranges from the robot to that beacon");
+      notes->push_back(lineOf(reversed_line) + "read " + std::to_string(reversed) + " range(s) to the robot's radio (" +
+                       std::to_string(*robot_radio) + ", the most frequent sender_id) as ranges from it to their sender");
     }
-    if (between_beacons > 0) {
-      notes->push_back(lineOf(between_line) + "set aside " + std::to_string(between_beacons) +
-                       " range(s) between two beacons (sender_id and beacon_id both in landmarks.csv): roam's "
-                       "estimators take ranges from the robot");
+    if (between_others > 0) {
+      notes->push_back(lineOf(between_line) + "set aside " + std::to_string(between_others) +
+                       " range(s) between two nodes neither of which is the robot's radio (" + std::to_string(*robot_radio) +
+                       ", the most frequent sender_id): roam's estimators take ranges from the robot");
     }
+    if (!sender_note.empty()) notes->push_back(sender_note);
   }
   return ranges;
 }

@@ -11,9 +11,10 @@
 // Ranges that a SLAM run can use but a surveyed map does not list are kept, with a note (the
 // `notes` argument; roam-import prints them): ranges to a beacon id that landmarks.csv does not
 // hold (from the start pose the estimators place it from its ranges). With a sender_id column
-// (Plaza's TD: the radio that sent, the robot's, and beacon_id the one that answered), a range
-// whose sender is a listed beacon and whose beacon_id is not is read as from the robot to that
-// beacon, and one between two listed beacons is set aside, each with a note.
+// (Plaza's TD: the radio that sent, and beacon_id the one that answered), the robot's radio is
+// the most frequent sender (not a listed beacon, or the column is not read, with a note): a
+// range to it is read as from it to its sender, and one between two other nodes is set aside,
+// each with a note.
 //
 // Odometry from a path (CsvImportOptions::odometry_from_path, a CSV in the ground-truth
 // layout; heading_rad optional): one odometry step k per path row k >= 1, stamped with row k's
