@@ -125,8 +125,6 @@ std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons, st
   const size_t sender = has_sender ? table.column("sender_id") : 0;
   std::set<int> known;
   for (const Beacon& b : beacons) known.insert(b.id);
-  // Ranges kept to beacons landmarks.csv does not hold, and ranges set aside between two beacons:
-  // the ids and the first line of each, for the notes.
   // sender_id: the robot's radio is the most frequent sender (Plaza 1: 2 on every row; ties: the
   // smallest). A range from it is to beacon_id, one to it is from the sender, and one between two
   // other nodes (beacons ranging each other) is set aside. A most frequent sender that is a
@@ -162,7 +160,8 @@ std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons, st
       out.bearing_rad = table.number(r, bearing);
     }
     if (robot_radio && table.integer(r, sender) != *robot_radio) {
-      // Neither end is the robot (or a bearing, which only the robot measures, on a range to it).
+      // Neither end is the robot's radio; or the range is to it but carries a bearing, which is
+      // the robot's own measurement and cannot be turned round.
       if (out.beacon_id != *robot_radio || out.has_bearing) {
         if (between_others++ == 0) between_line = table.line(r);
         continue;
