@@ -142,11 +142,9 @@ std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons, st
       robot_radio = most->first;
     }
   }
-  // Ranges kept to beacons landmarks.csv does not hold, read the other way round, and set aside:
-  // the count and the first line of each, for the notes.
+  // Ranges kept to beacons landmarks.csv does not hold, read the other way round, and set aside.
   std::set<int> unlisted;
-  long unlisted_count = 0, reversed = 0, between_others = 0;
-  int unlisted_line = 0, reversed_line = 0, between_line = 0;
+  LineTally unlisted_ranges, reversed, between_others;
   std::vector<Range> ranges;
   ranges.reserve(table.rows());
   for (size_t r = 0; r < table.rows(); ++r) {
@@ -163,14 +161,14 @@ std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons, st
       // Neither end is the robot's radio; or the range is to it but carries a bearing, which is
       // the robot's own measurement and cannot be turned round.
       if (out.beacon_id != *robot_radio || out.has_bearing) {
-        if (between_others++ == 0) between_line = table.line(r);
+        between_others.add(table.line(r));
         continue;
       }
-      if (reversed++ == 0) reversed_line = table.line(r);
+      reversed.add(table.line(r));
       out.beacon_id = table.integer(r, sender);
     }
     if (!known.count(out.beacon_id)) {
-      if (unlisted_count++ == 0) unlisted_line = table.line(r);
+      unlisted_ranges.add(table.line(r));
       unlisted.insert(out.beacon_id);
     }
     ranges.push_back(out);
@@ -178,20 +176,20 @@ std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons, st
   std::stable_sort(ranges.begin(), ranges.end(),
                    [](const Range& a, const Range& b) { return a.utime < b.utime; });
   if (notes) {
-    auto lineOf = [&](int line) { return path + ":" + std::to_string(line) + ": "; };
-    if (unlisted_count > 0) {
+    auto lineOf = [&](const LineTally& tally) { return path + ":" + std::to_string(tally.first_line) + ": "; };
+    if (unlisted_ranges.count > 0) {
       std::string ids;
       for (int unlisted_id : unlisted) ids += (ids.empty() ? "" : ", ") + std::to_string(unlisted_id);
-      notes->push_back(lineOf(unlisted_line) + "kept " + std::to_string(unlisted_count) + " range(s) to beacon(s) " + ids +
+      notes->push_back(lineOf(unlisted_ranges) + "kept " + std::to_string(unlisted_ranges.count) + " range(s) to beacon(s) " + ids +
                        ", which landmarks.csv does not hold: from the start pose the estimators place them from "
                        "their ranges, with surveyed beacons they count them as rejected or map them");
     }
-    if (reversed > 0) {
-      notes->push_back(lineOf(reversed_line) + "read " + std::to_string(reversed) + " range(s) to the robot's radio (" +
+    if (reversed.count > 0) {
+      notes->push_back(lineOf(reversed) + "read " + std::to_string(reversed.count) + " range(s) to the robot's radio (" +
                        std::to_string(*robot_radio) + ", the most frequent sender_id) as ranges from it to their sender");
     }
-    if (between_others > 0) {
-      notes->push_back(lineOf(between_line) + "set aside " + std::to_string(between_others) +
+    if (between_others.count > 0) {
+      notes->push_back(lineOf(between_others) + "set aside " + std::to_string(between_others.count) +
                        " range(s) between two nodes neither of which is the robot's radio (" + std::to_string(*robot_radio) +
                        ", the most frequent sender_id): roam's estimators take ranges from the robot");
     }

@@ -16,4 +16,14 @@ struct Dataset {
   Map beacons;                     // surveyed / true beacon positions (BEACONS)
 };
 
+// The readers' tally of one kind of line or row they set aside or read specially: how many, and
+// the line of the first, for the note that says so.
+struct LineTally {
+  long count = 0;
+  long first_line = 0;
+  void add(long line) {
+    if (count++ == 0) first_line = line;
+  }
+};
+
 }  // namespace roam

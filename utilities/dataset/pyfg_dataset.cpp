@@ -87,14 +87,8 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
   std::vector<RawEdge> edges;
   std::vector<RawRange> ranges;
   // What PyFactorGraph writes beside odometry and ranges, which roam's estimators do not take:
-  // set aside (line of the first of each kind, count) and reported in PyfgImport::notes.
-  struct SetAside {
-    long first_line = 0;
-    long count = 0;
-    void add(long line) {
-      if (count++ == 0) first_line = line;
-    }
-  } pose_priors, loop_closures, pose_landmark_edges;
+  // set aside and reported in PyfgImport::notes.
+  LineTally pose_priors, loop_closures, pose_landmark_edges;
   Line line;
   line.file = path;
   std::string text;
@@ -253,7 +247,7 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
 
   PyfgImport result;
   result.robot_letter = *robot;
-  auto note = [&](const SetAside& set_aside, const std::string& what, const std::string& why) {
+  auto note = [&](const LineTally& set_aside, const std::string& what, const std::string& why) {
     if (set_aside.count == 0) return;
     result.notes.push_back(path + ":" + std::to_string(set_aside.first_line) + ": set aside " +
                            std::to_string(set_aside.count) + " " + what + (set_aside.count > 1 ? " (the first here)" : "") +
