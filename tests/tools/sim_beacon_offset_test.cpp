@@ -132,4 +132,8 @@ TEST(SimWorlds, Nlos50WorldIsTheSeedSweepsNlos50Kind) {
   expectSeedSweepKindIsWorld("nlos50", roam::sim::nlos50LawnMowerWorld(7, 3000), "sim::nlos50LawnMowerWorld(7, 3000)");
 }
 
+TEST(SimWorlds, RacetrackWorldIsTheSeedSweepsDriftRacetrackKind) {
+  expectSeedSweepKindIsWorld("drift-racetrack", roam::sim::racetrackWorld(7, 6500), "sim::racetrackWorld(7, 6500)");
+}
+
 }  // namespace

@@ -50,6 +50,22 @@ std::vector<Control> loopControls(const SimConfig& c) {
   return std::vector<Control>(c.num_steps, Control{step_m, step_m / c.loop_radius_m});
 }
 
+std::vector<Control> racetrackControls(const SimConfig& c) {
+  // A straight of area_width_m, then a half circle to the left of radius loop_radius_m, repeated:
+  // one way round a running track, the loop a robot drives round a plaza.
+  const double step_m = c.speed_mps * c.dt_s;
+  const int straight_steps = std::max(1, static_cast<int>(std::lround(c.area_width_m / step_m)));
+  const int turn_steps = std::max(2, static_cast<int>(std::lround(M_PI * c.loop_radius_m / step_m)));
+  const double arc_m = M_PI * c.loop_radius_m / turn_steps;
+  std::vector<Control> controls;
+  while (static_cast<int>(controls.size()) < c.num_steps) {
+    controls.insert(controls.end(), straight_steps, Control{step_m, 0.0});
+    controls.insert(controls.end(), turn_steps, Control{arc_m, M_PI / turn_steps});
+  }
+  controls.resize(c.num_steps);
+  return controls;
+}
+
 std::vector<Control> figureEightControls(const SimConfig& c) {
   // One full circle to the left, then one to the right, of radius loop_radius_m, repeated:
   // the two lobes meet at the start.
@@ -100,8 +116,9 @@ PathKind parsePathKind(const std::string& name) {
   if (name == "lawn_mower") return PathKind::kLawnMower;
   if (name == "loop") return PathKind::kLoop;
   if (name == "figure8") return PathKind::kFigureEight;
+  if (name == "racetrack") return PathKind::kRacetrack;
   throw std::invalid_argument("unknown path '" + name +
-                              "' (expected random_walk | lawn_mower | loop | figure8)");
+                              "' (expected random_walk | lawn_mower | loop | figure8 | racetrack)");
 }
 
 RangeGap parseRangeGap(const std::string& text) {
@@ -219,6 +236,17 @@ SimConfig fastUwbWorld(uint64_t seed, int num_steps) {
   return c;
 }
 
+SimConfig racetrackWorld(uint64_t seed, int num_steps) {
+  SimConfig c = gyroDriftFigure8World(seed, num_steps);
+  c.path = PathKind::kRacetrack;
+  c.area_width_m = 40.0;
+  c.loop_radius_m = 12.0;
+  c.num_beacons = 4;
+  c.range_rate_hz = 1.4;
+  c.odo_heading_bias_radps = 0.005;
+  return c;
+}
+
 SimConfig nlos30LawnMowerWorld(uint64_t seed, int num_steps) {
   SimConfig c;
   c.seed = seed;
@@ -285,6 +313,7 @@ SimRun simulate(const SimConfig& c) {
     case PathKind::kLawnMower: controls = lawnMowerControls(c); break;
     case PathKind::kLoop: controls = loopControls(c); break;
     case PathKind::kFigureEight: controls = figureEightControls(c); break;
+    case PathKind::kRacetrack: controls = racetrackControls(c); break;
     case PathKind::kRandomWalk: controls = randomWalkControls(c, rng, run.start); break;
   }
   // Standing start: zero steps first, the path after them (num_steps in all).

@@ -43,7 +43,7 @@ struct RangeGap {
   double duration_s = 0.0;
 };
 
-enum class PathKind { kRandomWalk, kLawnMower, kLoop, kFigureEight };
+enum class PathKind { kRandomWalk, kLawnMower, kLoop, kFigureEight, kRacetrack };
 enum class RangeSchedule {
   kEveryStepAllBeacons,  // every pose sees every beacon (complete measurement matrix)
   kRoundRobin            // one beacon at a time at range_rate_hz, cycling, like UWB
@@ -58,10 +58,10 @@ struct SimConfig {
   Pose start;                     // start pose (utime overwritten by start_utime)
 
   PathKind path = PathKind::kLawnMower;
-  double area_width_m = 40.0;    // lawn-mower lane length / random-walk box width
+  double area_width_m = 40.0;    // lawn-mower lane length / random-walk box width / racetrack straight
   double area_height_m = 30.0;   // lawn-mower sweep height / random-walk box height
   double lane_spacing_m = 5.0;   // lawn-mower distance between lanes
-  double loop_radius_m = 15.0;   // loop path radius; each lobe of the figure-8
+  double loop_radius_m = 15.0;   // loop path radius; each lobe of the figure-8; racetrack turns
   double turn_rate_sigma_radps = 0.3;  // random walk: std of the smooth turn-rate process
   // Standing start: the first round(hold_s / dt_s) steps do not move (a robot waiting before it
   // drives, like Plaza 1's ~45 s); the path's own steps follow, up to num_steps in all.
@@ -162,7 +162,7 @@ std::map<int, std::vector<OutlierEpisode>> outlierEpisodes(const SimConfig& conf
 // (not two numbers, start < 0, duration <= 0).
 RangeGap parseRangeGap(const std::string& text);
 
-// Parses "random_walk" | "lawn_mower" | "loop" | "figure8"; throws std::invalid_argument otherwise.
+// Parses "random_walk" | "lawn_mower" | "loop" | "figure8" | "racetrack"; throws std::invalid_argument otherwise.
 PathKind parsePathKind(const std::string& name);
 
 // The AUV-like world of logs/synthetic/auv-sparse (there with seed 108 and 500 steps): 3 s steps
@@ -194,6 +194,13 @@ SimConfig slowUwbWorld(uint64_t seed, int num_steps);
 // ranges a second round robin, the same gyro noise per sqrt(s) (0.00095 rad per step) and
 // 0.005 rad/s of bias.
 SimConfig fastUwbWorld(uint64_t seed, int num_steps);
+
+// A loop driven one way round (utilities/seed-sweep's drift-racetrack, 6500 steps = 1.3 km):
+// 40 m straights joined by half circles of 12 m at 1 m/s in 0.2 s steps, 4 beacons ranged 1.4
+// times a second round robin (the spectral paper's Plaza 2: a loop, 1.3 km, 1816 ranges to 4
+// beacons over 4091 poses), 0.3 m range noise, 2 % odometry, 0.003 rad heading noise per step and
+// 0.005 rad/s of gyro bias.
+SimConfig racetrackWorld(uint64_t seed, int num_steps);
 
 // The heavy-NLOS world of logs/synthetic/nlos30-lawnmower (there seed 107, 3000 steps): a
 // 40 x 30 m lawn mower with 5 m lanes at 1 m/s in 0.2 s steps, 6 beacons at 2 Hz round robin,

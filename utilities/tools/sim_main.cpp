@@ -47,11 +47,11 @@ int main(int argc, char** argv) {
       ("hold-heading-sigma", po::value(&c.hold_heading_sigma_rad)->default_value(c.hold_heading_sigma_rad),
        "heading noise per step while standing (rad; < 0: --odo-heading-sigma); a gyro at rest "
        "drifts by its bias and angle random walk only")
-      ("path", po::value(&path_kind)->default_value(path_kind), "random_walk | lawn_mower | loop | figure8")
-      ("area-width", po::value(&c.area_width_m)->default_value(c.area_width_m), "lane length / box width (m)")
+      ("path", po::value(&path_kind)->default_value(path_kind), "random_walk | lawn_mower | loop | figure8 | racetrack (straights of --area-width joined by half circles of --loop-radius, one way round)")
+      ("area-width", po::value(&c.area_width_m)->default_value(c.area_width_m), "lane length / box width / racetrack straight (m)")
       ("area-height", po::value(&c.area_height_m)->default_value(c.area_height_m), "sweep / box height (m)")
       ("lane-spacing", po::value(&c.lane_spacing_m)->default_value(c.lane_spacing_m), "lawn-mower lane spacing (m)")
-      ("loop-radius", po::value(&c.loop_radius_m)->default_value(c.loop_radius_m), "loop radius (m)")
+      ("loop-radius", po::value(&c.loop_radius_m)->default_value(c.loop_radius_m), "loop radius; figure-8 lobes; racetrack turns (m)")
       ("turn-rate-sigma", po::value(&c.turn_rate_sigma_radps)->default_value(c.turn_rate_sigma_radps),
        "random walk: turn-rate std (rad/s)")
       ("beacons", po::value(&c.num_beacons)->default_value(c.num_beacons), "number of random beacons")
