@@ -130,6 +130,75 @@ void EkfSlam::initialiseReadyBeacons() {
   touched_.clear();
 }
 
+void EkfSlam::noteLostBeacon(int id, Sighting sighting) {
+  // A beacon placed from the ranges can be placed wrong (a mirror half-resolved at the end of a
+  // straight, a frame the first pass could not see yet); its ranges are then gated for the rest of
+  // the run, and nothing moves it, since only applied ranges do (a racetrack run with a drifting
+  // gyro, seed 302: one beacon 7.7 m off, 232 of its ranges gated, 13 % of the input; 60 m lanes,
+  // seeds 310, 312, 316: 9-12 %). Its gated ranges are sightings like a pending beacon's: once
+  // lost_beacon_gated_ranges of them come in a row, they are solved alone by the initialisation's
+  // rules (consensus, trimming, the deleted-residual check, the range bias within its prior's
+  // gate, the ready checks: no mirror, angle, sigma). Where they place the beacon outside the
+  // gate (2 dof) of the filter's estimate and of the previous such solve, and the new place
+  // explains more of the beacon's recent ranges than the old, it is moved there at the next step
+  // with the initialisation's weak prior, its old state dropped (the smoother carries the
+  // removal). Outliers do not agree on a point; a stretch of NLOS long by one excess can, and is
+  // out-voted by the ranges applied before it.
+  std::vector<Sighting>& run = lost_[id];
+  run.push_back(sighting);
+  if (static_cast<int>(run.size()) > config_.init_max_ranges) run.erase(run.begin());
+  if (static_cast<int>(run.size()) < config_.lost_beacon_gated_ranges) return;
+  // As for a pending beacon's trimmed solve: re-tried once the run has grown by a sixteenth.
+  size_t& last_try = lost_last_try_[id];
+  if (run.size() >= last_try && run.size() < last_try + std::max<size_t>(1, run.size() / 16)) return;
+  last_try = run.size();
+  const RangeBiasPrior bias = rangeBiasPrior();
+  std::vector<Sighting> used = consensusSightings(run, bias);
+  MultilaterationResult solve = estimation::multilaterate(used, bias, init_config_);
+  if (solve.status != MultilaterationResult::Status::kReady || !biasConsistent(solve, bias)) solve = trimmedSolve(run, bias, &used);
+  if (solve.status == MultilaterationResult::Status::kReady && biasConsistent(solve, bias)) solve = dropDeletedOutliers(solve, bias, &used);
+  if (solve.status != MultilaterationResult::Status::kReady || !biasConsistent(solve, bias)) return;
+  auto previous = lost_last_solve_.find(id);
+  const bool stable = previous != lost_last_solve_.end() &&
+                      (previous->second.world_m - solve.world_m).dot(solve.cov_m2.ldlt().solve(previous->second.world_m - solve.world_m)) <=
+                          gate_range_bearing_chi2_;
+  lost_last_solve_[id] = solve;
+  const int m = filter_.beaconIndex(id);
+  const Eigen::Vector2d moved_m = solve.world_m - filter_.mean().segment<2>(m);
+  const Eigen::Matrix2d cov_m2 = solve.cov_m2 + filter_.covariance().block<2, 2>(m, m);
+  if (!stable || moved_m.dot(cov_m2.ldlt().solve(moved_m)) <= gate_range_bearing_chi2_) return;
+  // And where it explains more of the beacon's recent ranges, applied and gated, than the
+  // estimate does (each within the gate of its sigma and its pose's spread): a stretch of NLOS
+  // after hundreds of applied ranges fits a shifted point (one excess per stretch) and is out-
+  // voted by them; a mirror image or a beacon placed wrong early was applied few ranges, or ones
+  // its true place explains as well (a straight lane's, seen from either side).
+  auto explained = [&](const Eigen::Vector2d& beacon_m) {
+    int count = 0;
+    auto fits = [&](const Sighting& sg) {
+      const double predicted_m = bias.scale * std::hypot(beacon_m.x() - sg.x_m, beacon_m.y() - sg.y_m) + bias.offset_m;
+      const double r = sg.range_m - predicted_m;
+      return r * r <= gate_range_chi2_ * (sg.sigma_m * sg.sigma_m + sg.position_var_m2);
+    };
+    for (const Sighting& sg : applied_sightings_[id]) count += fits(sg) ? 1 : 0;
+    for (const Sighting& sg : run) count += fits(sg) ? 1 : 0;
+    return count;
+  };
+  if (explained(solve.world_m) <= explained(filter_.mean().segment<2>(m))) return;
+  moves_.push_back({id, solve.world_m, config_.init_prior_inflation * solve.cov_m2});
+  lost_.erase(id);
+  lost_last_solve_.erase(id);
+  lost_last_try_.erase(id);
+  applied_sightings_.erase(id);
+  ++beacons_moved_;
+}
+
+void EkfSlam::forgetLostBeacons() {
+  lost_.clear();
+  lost_last_solve_.clear();
+  lost_last_try_.clear();
+  moves_.clear();
+}
+
 RangeBiasPrior EkfSlam::rangeBiasPrior() const {
   // The filter's range scale and offset, with their current uncertainty when they are states.
   RangeBiasPrior bias;

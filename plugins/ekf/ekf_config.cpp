@@ -36,6 +36,8 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("recover_consistent_gated", &c->recover_consistent_gated, "ranges to one beacon gated in a row whose innovations agree within the gate before the position variance is widened (0: never)").min(0);
   o.add("recover_consistent_fit", &c->recover_consistent_fit, "where a beacon's repeated innovation is an excess, the consistency trigger widens only where one position error explains it and the other surveyed beacons' applied ones (false: the run alone)");
   o.add("recover_trial_ranges", &c->recover_trial_ranges, "ranges scored with and without a starvation widening before one is kept (0: widen at once)").min(0);
+  o.add("lost_beacon_gated_ranges", &c->lost_beacon_gated_ranges,
+        "a beacon placed from the ranges whose last this many ranges were all gated is re-solved from them and moved where they place it (0: never)").min(0);
   o.add("motion_noise_max_scale", &c->motion_noise_max_scale, "largest factor on the odometry covariance after starvation").min(1.0);
   o.add("motion_noise_decay", &c->motion_noise_decay, "factor per applied range taking the odometry covariance back to configured").min(0.0, false).max(1.0);
   o.add("range_noise_max_scale", &c->range_noise_max_scale, "largest factor on the range variance when the NIS says the sigma is too small (1: off)").min(1.0);

@@ -111,6 +111,11 @@ struct EkfConfig {
   // outliers a run of 8 gated ones comes by chance about twice in 1000 ranges; a filter that is
   // not lost then widens onto the next outlier (0: the widening is applied at once).
   int recover_trial_ranges = 32;
+  // A beacon placed from the ranges (no survey) whose last this many ranges were all gated is lost:
+  // re-solved from those ranges alone (their filtered poses; the initialisation's solve and
+  // checks), and moved there, with the initialisation's weak prior, where they place it outside
+  // the gate of where the filter has it. 0: never.
+  int lost_beacon_gated_ranges = 12;
   // Each recovery also multiplies the odometry covariance by 4 (up to motion_noise_max_scale);
   // each applied range multiplies it by motion_noise_decay (down to 1).
   double motion_noise_max_scale = 400.0;

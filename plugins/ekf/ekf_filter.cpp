@@ -2,9 +2,11 @@
 
 #include "roam/estimation/range_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <vector>
 
 #include "roam/estimation/motion_model.hpp"
 #include "roam/types.hpp"
@@ -114,6 +116,33 @@ void EkfFilter::addBeacon(int id, const Eigen::Vector2d& world_m, const Eigen::M
   P_.topRightCorner(n, 2) = cross.transpose();
   P_.bottomRightCorner<2, 2>() = cov_m2;
   index_[id] = n;
+}
+
+void EkfFilter::removeBeacon(int id) {
+  std::vector<int> removed{index_.at(id), index_.at(id) + 1};
+  if (const int o = beaconOffsetIndex(id); o >= 0) removed.push_back(o);
+  std::vector<int> kept;
+  for (int i = 0; i < size(); ++i)
+    if (std::find(removed.begin(), removed.end(), i) == removed.end()) kept.push_back(i);
+  if (record_) {
+    SmootherOperation op;
+    op.kind = SmootherOperation::Kind::kRemove;
+    op.kept = kept;
+    op.size_before = size();
+    record_->push_back(std::move(op));
+  }
+  const Eigen::VectorXd x = x_(kept);
+  const Eigen::MatrixXd P = P_(kept, kept);
+  x_ = x;
+  P_ = P;
+  index_.erase(id);
+  offset_index_.erase(id);
+  // Each index moves down by the removed indices below it.
+  auto shifted = [&](int i) {
+    return i - static_cast<int>(std::count_if(removed.begin(), removed.end(), [&](int r) { return r < i; }));
+  };
+  for (auto& [beacon, i] : index_) i = shifted(i);
+  for (auto& [beacon, i] : offset_index_) i = shifted(i);
 }
 
 double EkfFilter::predictRange(int beacon_id, Eigen::RowVectorXd* jacobian) const {

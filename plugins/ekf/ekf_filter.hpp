@@ -76,6 +76,9 @@ class EkfFilter {
   // Appends a beacon correlated with the rest: cross = cov(beacon, existing state) (2 x n).
   void addBeacon(int id, const Eigen::Vector2d& world_m, const Eigen::Matrix2d& cov_m2,
                  const Eigen::MatrixXd& cross);
+  // Takes a beacon out of the state (its position and its own offset, rows and columns): what the
+  // filter knew of it is dropped, the rest keeps its marginal. Recorded for the smoother.
+  void removeBeacon(int id);
   bool hasBeacon(int id) const { return index_.count(id) > 0; }
   int beaconIndex(int id) const { return index_.at(id); }
   const std::map<int, int>& beacons() const { return index_; }

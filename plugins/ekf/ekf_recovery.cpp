@@ -235,6 +235,7 @@ void EkfSlam::decideRecoveryTrial() {
   const int64_t recoveries_a = recoveries_, stationary_updates_a = stationary_updates_;
   const auto pending_a = pending_;
   const auto touched_a = touched_;
+  const auto applied_sightings_a = applied_sightings_;
   std::vector<std::tuple<EkfFilter, int64_t, Adaptation>> snapshots_a;
   for (auto it = entry; it != history_.end(); ++it) snapshots_a.emplace_back(it->before, it->before_utime, it->before_adaptation);
   const double log_likelihood_a = trial_.log_likelihood;
@@ -265,6 +266,7 @@ void EkfSlam::decideRecoveryTrial() {
     stationary_updates_ = stationary_updates_a;
     pending_ = pending_a;
     touched_ = touched_a;
+    applied_sightings_ = applied_sightings_a;
     auto it = entry;
     for (const auto& [before, before_utime, before_adaptation] : snapshots_a) {
       it->before = before;

@@ -132,6 +132,8 @@ void EkfSlam::addOdometry(const Odometry& odometry) {
   step.ranges.assign(waiting_.begin(), later);
   waiting_.erase(waiting_.begin(), later);
   step.standstill = confirmStandstill(odometry, std::max<int64_t>(0, odometry.utime - state_utime_) * 1e-6);
+  step.moves = std::move(moves_);
+  moves_.clear();
   if (step.standstill && bias_undecided_) {
     // A confirmed standstill observes the bias directly (zero-rate update), whatever the ranges.
     bias_undecided_ = false;
@@ -189,6 +191,13 @@ void EkfSlam::runStep(const Step& step, bool live) {
   }
   SmootherNode node;
   if (config_.smooth_trajectory) filter_.record(&node.before);
+  for (const Insert& move : step.moves) {
+    // A lost beacon (noteLostBeacon): what the filter knew of it is dropped (the removal is
+    // recorded for the smoother), and it re-enters where its gated ranges placed it.
+    if (filter_.hasBeacon(move.id)) filter_.removeBeacon(move.id);
+    filter_.addBeacon(move.id, move.world_m, move.cov_m2);
+    map_dirty_ = true;
+  }
   const Odometry& odo = step.odometry;
   const int64_t t0 = state_utime_, t1 = odo.utime;
   const double dt_s = std::max<int64_t>(0, t1 - t0) * 1e-6;
@@ -379,6 +388,13 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
     }
     if (result == EkfFilter::Update::kApplied) {
       map_dirty_ = true;
+      lost_.erase(range.beacon_id);
+      lost_last_try_.erase(range.beacon_id);
+      if (!range.has_bearing && config_.lost_beacon_gated_ranges > 0 && !isSurveyed(range.beacon_id)) {
+        std::deque<Sighting>& applied = applied_sightings_[range.beacon_id];
+        applied.push_back(sightingNow(range, sigma_m, step_index));
+        if (static_cast<int>(applied.size()) > config_.init_max_ranges) applied.pop_front();
+      }
       adapt_.gated_in_row = 0;
       adapt_.gated_runs.erase(range.beacon_id);
       if (config_.recover_consistent_fit && !range.has_bearing && isSurveyed(range.beacon_id))
@@ -389,6 +405,9 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
     } else if (result == EkfFilter::Update::kGated) {
       noteGated({range.beacon_id, range.range_m - filter_.predictRange(range.beacon_id, nullptr), innovation_var_m2, sigma_m, range.utime},
                 step_index, live);
+      if (live && !finishing_ && !trial_rerun_ && !range.has_bearing && config_.lost_beacon_gated_ranges > 0 &&
+          !isSurveyed(range.beacon_id))
+        noteLostBeacon(range.beacon_id, sightingNow(range, sigma_m, step_index));
       countRange(Verdict::kGated, live, recording);
     } else {
       countRange(Verdict::kDegenerate, live, recording);
@@ -396,11 +415,20 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
     return;
   }
   // Unknown beacon: buffer the range with the pose it was taken at.
+  last_sighting_step_ = step_index;
+  Sighting sighting = sightingNow(range, sigma_m, step_index);
+  auto& buffer = pending_[range.beacon_id];
+  buffer.push_back(sighting);
+  if (static_cast<int>(buffer.size()) > config_.init_max_ranges) buffer.erase(buffer.begin());
+  touched_.insert(range.beacon_id);
+  if (live) ++pending_live_ranges_[range.beacon_id];
+}
+
+Sighting EkfSlam::sightingNow(const Range& range, double sigma_m, int64_t step_index) const {
   const Eigen::VectorXd& x = filter_.mean();
   const Eigen::MatrixXd& P = filter_.covariance();
   Sighting sighting;
   sighting.step = step_index;
-  last_sighting_step_ = step_index;
   sighting.utime = range.utime;
   sighting.x_m = x(EkfFilter::kX);
   sighting.y_m = x(EkfFilter::kY);
@@ -424,11 +452,7 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
   }
   sighting.range_m = range.range_m;
   sighting.sigma_m = sigma_m;
-  auto& buffer = pending_[range.beacon_id];
-  buffer.push_back(sighting);
-  if (static_cast<int>(buffer.size()) > config_.init_max_ranges) buffer.erase(buffer.begin());
-  touched_.insert(range.beacon_id);
-  if (live) ++pending_live_ranges_[range.beacon_id];
+  return sighting;
 }
 
 void EkfSlam::adaptRangeNoise(double nis) {
@@ -481,6 +505,12 @@ void EkfSlam::rollbackAndInsert(int id, const MultilaterationResult& solve, std:
 
 void EkfSlam::replayFrom(int64_t offset, int64_t first_step) {
   if (!trial_rerun_) abandonRecoveryTrial();
+  forgetLostBeacons();
+  // The applied ranges of the re-run steps are collected again on the re-run poses.
+  const int64_t replayed = history_[offset].index;
+  for (auto& [id, applied] : applied_sightings_)
+    applied.erase(std::remove_if(applied.begin(), applied.end(), [&](const Sighting& sg) { return sg.step >= replayed; }),
+                  applied.end());
   // Sightings from the re-run steps are collected again with the re-run poses.
   for (auto it = pending_.begin(); it != pending_.end();) {
     auto& buffer = it->second;
@@ -560,6 +590,8 @@ void EkfSlam::reinitialiseFromStart() {
   // and of the size the batch solution's (spectral_batch) is: the start heading's and the early
   // odometry's.
   abandonRecoveryTrial();
+  forgetLostBeacons();
+  applied_sightings_.clear();  // the re-run collects them again on its own poses
   std::deque<Step> old = std::move(history_);
   history_.clear();
   filter_ = old.front().before;
@@ -688,6 +720,7 @@ void EkfSlam::publishDiagnostics() {
   setDiagnostic("calibration_reruns", static_cast<double>(calibration_reruns_));
   setDiagnostic("calibration_reruns_reinitialised", static_cast<double>(fresh_reruns_));
   setDiagnostic("ranges_gated", static_cast<double>(gated_));
+  setDiagnostic("beacons_moved", static_cast<double>(beacons_moved_));
   setDiagnostic("smoother_unsmoothed_poses", static_cast<double>(first_smoothed_));
   // Above a few percent the filter is fighting its noise model: see gate_probability,
   // range_sigma_m and the odometry sigmas (the rejection reason names the gate).

@@ -156,6 +156,7 @@ class EkfSlam : public Estimator {
     Odometry odometry;
     std::vector<Range> ranges;
     std::vector<Insert> inserts;  // beacons entering the state at the start of this step
+    std::vector<Insert> moves;    // lost beacons taken out and re-entered at the start of this step
     EkfFilter before;
     int64_t before_utime = 0;
     size_t path_size = 0;
@@ -170,6 +171,11 @@ class EkfSlam : public Estimator {
   void runSnapshotted(Step* step, bool live, bool rerun_start);  // runStep, keeping the snapshot where needed
   bool rerunMayStartAt(int64_t step_index) const;  // does the step's snapshot need keeping
   void handleRange(const Range& range, int64_t step_index, bool live);
+  Sighting sightingNow(const Range& range, double sigma_m, int64_t step_index) const;  // at the filter's pose
+  // A beacon placed from the ranges whose ranges keep being gated (lost_beacon_gated_ranges,
+  // ekf_beacon_init.cpp): re-solved from them, and moved at the next step where they refute it.
+  void noteLostBeacon(int id, Sighting sighting);
+  void forgetLostBeacons();  // a re-run rewrote the filter the gated runs were judged against
   void initialiseReadyBeacons();
   std::vector<Sighting> consensusSightings(const std::vector<Sighting>& sightings, const RangeBiasPrior& bias) const;
   static constexpr int kTrimIterations = 5;
@@ -242,6 +248,14 @@ class EkfSlam : public Estimator {
   std::deque<Step> history_;    // steps since the first sighting of a pending beacon
   int64_t last_sighting_step_ = -1;  // the step that last buffered a range to a pending beacon
   std::map<int, std::vector<Sighting>> pending_;
+  // Live ranges gated in a row to each beacon placed from the ranges (noteLostBeacon), the last
+  // solve of them, and the moves that solve asked for (made at the start of the next step).
+  std::map<int, std::vector<Sighting>> lost_;
+  std::map<int, MultilaterationResult> lost_last_solve_;
+  std::map<int, size_t> lost_last_try_;
+  std::map<int, std::deque<Sighting>> applied_sightings_;  // each such beacon's last live applied ranges
+  std::vector<Insert> moves_;
+  int beacons_moved_ = 0;
   // Live ranges to each beacon not yet initialised: counted accepted when it enters the state,
   // rejected at the end (with the check that kept it out) if it never does.
   std::map<int, int64_t> pending_live_ranges_;

@@ -24,6 +24,16 @@ void fitTo(int n, Eigen::VectorXd* lambda, Eigen::MatrixXd* Lambda) {
 }
 
 void backwards(const SmootherOperation& op, Eigen::VectorXd* lambda, Eigen::MatrixXd* Lambda) {
+  if (op.kind == SmootherOperation::Kind::kRemove) {
+    fitTo(static_cast<int>(op.kept.size()), lambda, Lambda);
+    Eigen::VectorXd l = Eigen::VectorXd::Zero(op.size_before);
+    Eigen::MatrixXd L = Eigen::MatrixXd::Zero(op.size_before, op.size_before);
+    l(op.kept) = *lambda;
+    L(op.kept, op.kept) = *Lambda;
+    *lambda = std::move(l);
+    *Lambda = std::move(L);
+    return;
+  }
   if (op.kind == SmootherOperation::Kind::kUpdate) {
     fitTo(static_cast<int>(op.H.cols()), lambda, Lambda);
     // lambda- = lambda+ + H' (S^-1 v - K' lambda+);
@@ -55,7 +65,8 @@ void backwards(const SmootherOperation& op, Eigen::VectorXd* lambda, Eigen::Matr
 size_t memoryBytes(const SmootherNode& node) {
   size_t values = static_cast<size_t>(node.pose_rows.size());
   for (const SmootherOperation& op : node.before)
-    values += static_cast<size_t>(op.A.size() + op.H.size() + op.K.size() + op.S_inverse.size() + op.y.size());
+    values += static_cast<size_t>(op.A.size() + op.H.size() + op.K.size() + op.S_inverse.size() + op.y.size()) +
+              op.kept.size() / 2;
   return values * sizeof(double) + node.before.size() * sizeof(SmootherOperation);
 }
 

@@ -8,12 +8,14 @@
 //             a Huber-weighted range is an update with its inflated R, so its K is optimal for
 //             that R and the Joseph form equals (I - K H) P-);
 //   augment:  states appended at the end (beacons), uncorrelated with the rest;
-//   noise:    P += Q with x unchanged (bias release, starvation widening): nothing to undo.
+//   noise:    P += Q with x unchanged (bias release, starvation widening): nothing to undo;
+//   remove:   a beacon's rows and columns dropped (x' = E x, E selecting the kept rows).
 // The smoothed mean at any point of the sequence is x + P lambda, where the adjoint lambda
 // (0 after the last operation) is carried backwards:
 //   across an update:   lambda- = lambda+ + H' (S^-1 v - K' lambda+);
 //   across a predict:   lambda  = F' lambda'  (only the pose part of lambda' is mixed, by A');
 //   across an augment:  lambda is cut to the older, shorter state;
+//   across a removal:   lambda = E' lambda' (zeros at the removed rows), Lambda = E' Lambda' E;
 // and the smoothed covariance P - P Lambda P with
 //   across an update:   Lambda- = H' S^-1 H + (I - K H)' Lambda+ (I - K H);
 //   across a predict:   Lambda  = F' Lambda' F.
@@ -33,13 +35,15 @@ namespace ekf {
 
 // One linear operation of the filter, as the backward pass needs it.
 struct SmootherOperation {
-  enum class Kind { kPredict, kUpdate };
+  enum class Kind { kPredict, kUpdate, kRemove };
   Kind kind = Kind::kPredict;
   Eigen::MatrixXd A;          // predict: the pose rows of F (3 x n)
   Eigen::MatrixXd H;          // update: m x n
   Eigen::MatrixXd K;          // update: n x m
   Eigen::MatrixXd S_inverse;  // update: m x m
   Eigen::VectorXd y;          // update: S^-1 v (m)
+  std::vector<int> kept;      // remove: the indices kept, in the state before
+  int size_before = 0;        // remove: the state's size before
 };
 
 // The filter at one published pose, and the operations since the previous one.

@@ -86,6 +86,62 @@ TEST(EkfSmoother, EqualsAStochasticCloneOfThePose) {
   EXPECT_GT(std::hypot(smoothed[kClone].x_m - nodes[kClone].pose.x(), smoothed[kClone].y_m - nodes[kClone].pose.y()), 1e-3);
 }
 
+TEST(EkfSmoother, ABeaconTakenOutOfTheStateKeepsTheCloneExact) {
+  // The same stochastic clone at node 15, and at node 25 beacon 0 (the first in the state, so every
+  // index after it moves) is taken out (removeBeacon: the EKF's re-placement of a lost beacon);
+  // the ranges after it are to beacons 1 and 2. The filter after a removal is the marginal of
+  // the rest, so the clone is still E[x_15, y_15 | every range applied], and the backward pass
+  // must carry its adjoint across the removal to the same answer.
+  constexpr int kSteps = 40, kClone = 15, kRemove = 25;
+  EkfFilter filter;
+  EkfCalibrationPrior calibration;
+  calibration.estimated = true;
+  filter.reset(Eigen::Vector3d(0.0, 0.0, 0.1), Eigen::Vector3d(0.01, 0.01, 0.001).asDiagonal(), true, 0.05, 0.2,
+               calibration);
+  const Eigen::Vector2d beacons[3] = {{10.0, 0.0}, {0.0, 10.0}, {-8.0, -6.0}};
+  for (int i = 0; i < 3; ++i) filter.addBeacon(i, beacons[i] + Eigen::Vector2d(0.3, -0.2), 0.25 * Eigen::Matrix2d::Identity(), i == 0 ? 1.5 : 0.0);
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.3);
+  std::vector<SmootherNode> nodes{nodeOf(filter, {})};
+  Path path(1);
+  Odometry odometry;
+  odometry.forward_m = 0.5;
+  odometry.delta_heading_rad = 0.04;
+  const Eigen::Matrix3d Q = Eigen::Vector3d(1e-4, 1e-4, 1e-5).asDiagonal();
+  auto range = [&](int id, int k) { return (beacons[id] - Eigen::Vector2d(0.5 * k, 0.02 * k * k)).norm() + noise(rng); };
+  double nis = 0.0;
+  for (int k = 1; k <= kSteps; ++k) {
+    std::vector<SmootherOperation> before;
+    filter.record(&before);
+    if (k == kRemove) {
+      const Eigen::Vector2d beacon_2 = filter.mean().segment<2>(filter.beaconIndex(2));
+      const double predicted = filter.predictRange(2, nullptr);
+      const int size = filter.size();
+      filter.removeBeacon(0);
+      ASSERT_FALSE(filter.hasBeacon(0));
+      ASSERT_EQ(filter.size(), size - 3);  // its position and its own offset
+      EXPECT_EQ(filter.mean().segment<2>(filter.beaconIndex(2)), beacon_2);
+      EXPECT_EQ(filter.predictRange(2, nullptr), predicted);
+    }
+    filter.predict(odometry, 0.5, Q, 1e-8);
+    const int first = k < kRemove ? k % 3 : 1 + k % 2;
+    filter.updateRange(first, range(first, k), 0.3, 1e9, &nis, 1.345);
+    filter.updateRange(k < kRemove ? (k + 1) % 3 : 2, range(2, k), 0.3, 1e9, &nis, 1.345);
+    filter.record(nullptr);
+    nodes.push_back(nodeOf(filter, std::move(before)));
+    path.push_back(Pose{});
+    if (k == kClone) filter.addBeacon(99, filter.mean().head<2>(), filter.covariance().topLeftCorner<2, 2>(), filter.covariance().topRows(2));
+  }
+  const Path smoothed = smoothPath(path, nodes, {});
+  const int c = filter.beaconIndex(99);
+  EXPECT_NEAR(smoothed[kClone].x_m, filter.mean()(c), kCloneTolerance);
+  EXPECT_NEAR(smoothed[kClone].y_m, filter.mean()(c + 1), kCloneTolerance);
+  for (int r = 0; r < 2; ++r)
+    for (int q = 0; q < 2; ++q)
+      EXPECT_NEAR(smoothed[kClone].covariance[3 * r + q], filter.covariance()(c + r, c + q), kCloneTolerance);
+  EXPECT_GT(std::hypot(smoothed[kClone].x_m - nodes[kClone].pose.x(), smoothed[kClone].y_m - nodes[kClone].pose.y()), 1e-3);
+}
+
 using test::meanError;
 
 TEST(EkfSmoother, SmoothedTrajectoryOnGyroDriftFigure8) {
