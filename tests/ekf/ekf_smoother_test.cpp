@@ -28,13 +28,11 @@ SmootherNode nodeOf(const EkfFilter& filter, std::vector<SmootherOperation> befo
   return node;
 }
 
-TEST(EkfSmoother, EqualsAStochasticCloneOfThePose) {
-  // Stochastic cloning: at node 15 the pose's (x, y) is appended to the state as two more
-  // states with the pose's covariance and cross-covariances. Nothing predicts or observes the
-  // clone, so the filter runs exactly as without it (same gains, same linearisation), and at the
-  // end the clone's mean and covariance are E[x_15, y_15 | every range] under that
-  // linearisation: what the backward pass must give for node 15, to rounding.
-  constexpr int kSteps = 40, kClone = 15;
+// The clone tests' filter: a pose with its range bias and odometry calibration, and three beacons
+// 0.36 m off the truth (beacon 0 with its own range offset, prior sigma first_offset_sigma_m).
+const Eigen::Vector2d kBeacons[3] = {{10.0, 0.0}, {0.0, 10.0}, {-8.0, -6.0}};
+
+EkfFilter threeBeaconFilter(double first_offset_sigma_m) {
   EkfFilter filter;
   EkfCalibrationPrior calibration;
   calibration.estimated = true;
@@ -42,8 +40,20 @@ TEST(EkfSmoother, EqualsAStochasticCloneOfThePose) {
   calibration.heading_rate_bias_sigma_rad_s = 0.01;
   filter.reset(Eigen::Vector3d(0.0, 0.0, 0.1), Eigen::Vector3d(0.01, 0.01, 0.001).asDiagonal(), true, 0.05, 0.2,
                calibration);
-  const Eigen::Vector2d beacons[3] = {{10.0, 0.0}, {0.0, 10.0}, {-8.0, -6.0}};
-  for (int i = 0; i < 3; ++i) filter.addBeacon(i, beacons[i] + Eigen::Vector2d(0.3, -0.2), 0.25 * Eigen::Matrix2d::Identity());
+  for (int i = 0; i < 3; ++i)
+    filter.addBeacon(i, kBeacons[i] + Eigen::Vector2d(0.3, -0.2), 0.25 * Eigen::Matrix2d::Identity(), i == 0 ? first_offset_sigma_m : 0.0);
+  return filter;
+}
+
+TEST(EkfSmoother, EqualsAStochasticCloneOfThePose) {
+  // Stochastic cloning: at node 15 the pose's (x, y) is appended to the state as two more
+  // states with the pose's covariance and cross-covariances. Nothing predicts or observes the
+  // clone, so the filter runs exactly as without it (same gains, same linearisation), and at the
+  // end the clone's mean and covariance are E[x_15, y_15 | every range] under that
+  // linearisation: what the backward pass must give for node 15, to rounding.
+  constexpr int kSteps = 40, kClone = 15;
+  EkfFilter filter = threeBeaconFilter(0.0);
+  const auto& beacons = kBeacons;
   std::mt19937_64 rng(7);
   std::normal_distribution<double> noise(0.0, 0.3);
   std::vector<SmootherNode> nodes{nodeOf(filter, {})};
@@ -93,13 +103,8 @@ TEST(EkfSmoother, ABeaconTakenOutOfTheStateKeepsTheCloneExact) {
   // the rest, so the clone is still E[x_15, y_15 | every range applied], and the backward pass
   // must carry its adjoint across the removal to the same answer.
   constexpr int kSteps = 40, kClone = 15, kRemove = 25;
-  EkfFilter filter;
-  EkfCalibrationPrior calibration;
-  calibration.estimated = true;
-  filter.reset(Eigen::Vector3d(0.0, 0.0, 0.1), Eigen::Vector3d(0.01, 0.01, 0.001).asDiagonal(), true, 0.05, 0.2,
-               calibration);
-  const Eigen::Vector2d beacons[3] = {{10.0, 0.0}, {0.0, 10.0}, {-8.0, -6.0}};
-  for (int i = 0; i < 3; ++i) filter.addBeacon(i, beacons[i] + Eigen::Vector2d(0.3, -0.2), 0.25 * Eigen::Matrix2d::Identity(), i == 0 ? 1.5 : 0.0);
+  EkfFilter filter = threeBeaconFilter(1.5);
+  const auto& beacons = kBeacons;
   std::mt19937_64 rng(11);
   std::normal_distribution<double> noise(0.0, 0.3);
   std::vector<SmootherNode> nodes{nodeOf(filter, {})};
