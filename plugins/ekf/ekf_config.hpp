@@ -114,7 +114,8 @@ struct EkfConfig {
   // A beacon placed from the ranges (no survey) whose last this many ranges were all gated is lost:
   // re-solved from those ranges alone (their filtered poses; the initialisation's solve and
   // checks), and moved there, with the initialisation's weak prior, where they place it outside
-  // the gate of where the filter has it. 0: never.
+  // the gate of where the filter has it and the new place explains more of its last
+  // init_max_ranges ranges, applied and gated, than the old. 0: never.
   int lost_beacon_gated_ranges = 12;
   // Each recovery also multiplies the odometry covariance by 4 (up to motion_noise_max_scale);
   // each applied range multiplies it by motion_noise_decay (down to 1).

@@ -253,7 +253,7 @@ class EkfSlam : public Estimator {
   std::map<int, std::vector<Sighting>> lost_;
   std::map<int, MultilaterationResult> lost_last_solve_;
   std::map<int, size_t> lost_last_try_;
-  std::map<int, std::deque<Sighting>> applied_sightings_;  // each such beacon's last live applied ranges
+  std::map<int, std::deque<Sighting>> applied_sightings_;  // each such beacon's last applied ranges (the vote)
   std::vector<Insert> moves_;
   int beacons_moved_ = 0;
   // Live ranges to each beacon not yet initialised: counted accepted when it enters the state,

@@ -66,7 +66,7 @@ size_t memoryBytes(const SmootherNode& node) {
   size_t values = static_cast<size_t>(node.pose_rows.size());
   for (const SmootherOperation& op : node.before)
     values += static_cast<size_t>(op.A.size() + op.H.size() + op.K.size() + op.S_inverse.size() + op.y.size()) +
-              op.kept.size() / 2;
+              op.kept.size() / 2;  // ints: half a double each
   return values * sizeof(double) + node.before.size() * sizeof(SmootherOperation);
 }
 
