@@ -386,11 +386,14 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
       ++known_ranges_live_;
       if (result == EkfFilter::Update::kGated) ++known_ranges_gated_live_;
     }
+    // A range that can vote on, or move, a beacon placed from the ranges (see noteLostBeacon).
+    const bool lost_beacon_watch =
+        !range.has_bearing && config_.lost_beacon_gated_ranges > 0 && !isSurveyed(range.beacon_id);
     if (result == EkfFilter::Update::kApplied) {
       map_dirty_ = true;
       lost_.erase(range.beacon_id);
       lost_last_try_.erase(range.beacon_id);
-      if (!range.has_bearing && config_.lost_beacon_gated_ranges > 0 && !isSurveyed(range.beacon_id)) {
+      if (lost_beacon_watch) {
         std::deque<Sighting>& applied = applied_sightings_[range.beacon_id];
         applied.push_back(sightingNow(range, sigma_m, step_index));
         if (static_cast<int>(applied.size()) > config_.init_max_ranges) applied.pop_front();
@@ -405,8 +408,7 @@ void EkfSlam::handleRange(const Range& range, int64_t step_index, bool live) {
     } else if (result == EkfFilter::Update::kGated) {
       noteGated({range.beacon_id, range.range_m - filter_.predictRange(range.beacon_id, nullptr), innovation_var_m2, sigma_m, range.utime},
                 step_index, live);
-      if (live && !finishing_ && !trial_rerun_ && !range.has_bearing && config_.lost_beacon_gated_ranges > 0 &&
-          !isSurveyed(range.beacon_id))
+      if (live && !finishing_ && !trial_rerun_ && lost_beacon_watch)
         noteLostBeacon(range.beacon_id, sightingNow(range, sigma_m, step_index));
       countRange(Verdict::kGated, live, recording);
     } else {

@@ -45,12 +45,30 @@ EkfFilter threeBeaconFilter(double first_offset_sigma_m) {
   return filter;
 }
 
+// A stochastic clone: the pose's (x, y) appended to the state as "beacon" kCloneId with the pose's
+// covariance and cross-covariances. Nothing predicts or observes it, so the filter runs exactly as
+// without it, and at the end it holds E[x, y | every range] at the step it was taken.
+constexpr int kCloneId = 99;
+
+void clonePose(EkfFilter* filter) {
+  filter->addBeacon(kCloneId, filter->mean().head<2>(), filter->covariance().topLeftCorner<2, 2>(),
+                    filter->covariance().topRows(2));
+}
+
+// The backward pass's node against the clone, to rounding; and the later ranges moved it.
+void expectSmoothedIsTheClone(const Pose& smoothed, const SmootherNode& filtered, const EkfFilter& filter) {
+  const int c = filter.beaconIndex(kCloneId);
+  EXPECT_NEAR(smoothed.x_m, filter.mean()(c), kCloneTolerance);
+  EXPECT_NEAR(smoothed.y_m, filter.mean()(c + 1), kCloneTolerance);
+  for (int r = 0; r < 2; ++r)
+    for (int q = 0; q < 2; ++q) EXPECT_NEAR(smoothed.covariance[3 * r + q], filter.covariance()(c + r, c + q), kCloneTolerance);
+  EXPECT_GT(std::hypot(smoothed.x_m - filtered.pose.x(), smoothed.y_m - filtered.pose.y()), 1e-3);
+}
+
 TEST(EkfSmoother, EqualsAStochasticCloneOfThePose) {
-  // Stochastic cloning: at node 15 the pose's (x, y) is appended to the state as two more
-  // states with the pose's covariance and cross-covariances. Nothing predicts or observes the
-  // clone, so the filter runs exactly as without it (same gains, same linearisation), and at the
-  // end the clone's mean and covariance are E[x_15, y_15 | every range] under that
-  // linearisation: what the backward pass must give for node 15, to rounding.
+  // A stochastic clone of the pose at node 15 (clonePose): at the end its mean and covariance are
+  // E[x_15, y_15 | every range] under the filter's linearisation, what the backward pass must give
+  // for node 15, to rounding.
   constexpr int kSteps = 40, kClone = 15;
   EkfFilter filter = threeBeaconFilter(0.0);
   const auto& beacons = kBeacons;
@@ -77,7 +95,7 @@ TEST(EkfSmoother, EqualsAStochasticCloneOfThePose) {
     filter.record(nullptr);
     nodes.push_back(nodeOf(filter, std::move(before)));
     path.push_back(Pose{});
-    if (k == kClone) filter.addBeacon(99, filter.mean().head<2>(), filter.covariance().topLeftCorner<2, 2>(), filter.covariance().topRows(2));
+    if (k == kClone) clonePose(&filter);
   }
   std::vector<SmootherOperation> trailing;
   filter.record(&trailing);
@@ -85,15 +103,7 @@ TEST(EkfSmoother, EqualsAStochasticCloneOfThePose) {
   filter.record(nullptr);
   ASSERT_EQ(trailing.size(), 1u);
 
-  const Path smoothed = smoothPath(path, nodes, trailing);
-  const int c = filter.beaconIndex(99);
-  EXPECT_NEAR(smoothed[kClone].x_m, filter.mean()(c), kCloneTolerance);
-  EXPECT_NEAR(smoothed[kClone].y_m, filter.mean()(c + 1), kCloneTolerance);
-  for (int r = 0; r < 2; ++r)
-    for (int q = 0; q < 2; ++q)
-      EXPECT_NEAR(smoothed[kClone].covariance[3 * r + q], filter.covariance()(c + r, c + q), kCloneTolerance);
-  // And the smoother moved it: the later ranges carry information about pose 15.
-  EXPECT_GT(std::hypot(smoothed[kClone].x_m - nodes[kClone].pose.x(), smoothed[kClone].y_m - nodes[kClone].pose.y()), 1e-3);
+  expectSmoothedIsTheClone(smoothPath(path, nodes, trailing)[kClone], nodes[kClone], filter);
 }
 
 TEST(EkfSmoother, ABeaconTakenOutOfTheStateKeepsTheCloneExact) {
@@ -135,16 +145,9 @@ TEST(EkfSmoother, ABeaconTakenOutOfTheStateKeepsTheCloneExact) {
     filter.record(nullptr);
     nodes.push_back(nodeOf(filter, std::move(before)));
     path.push_back(Pose{});
-    if (k == kClone) filter.addBeacon(99, filter.mean().head<2>(), filter.covariance().topLeftCorner<2, 2>(), filter.covariance().topRows(2));
+    if (k == kClone) clonePose(&filter);
   }
-  const Path smoothed = smoothPath(path, nodes, {});
-  const int c = filter.beaconIndex(99);
-  EXPECT_NEAR(smoothed[kClone].x_m, filter.mean()(c), kCloneTolerance);
-  EXPECT_NEAR(smoothed[kClone].y_m, filter.mean()(c + 1), kCloneTolerance);
-  for (int r = 0; r < 2; ++r)
-    for (int q = 0; q < 2; ++q)
-      EXPECT_NEAR(smoothed[kClone].covariance[3 * r + q], filter.covariance()(c + r, c + q), kCloneTolerance);
-  EXPECT_GT(std::hypot(smoothed[kClone].x_m - nodes[kClone].pose.x(), smoothed[kClone].y_m - nodes[kClone].pose.y()), 1e-3);
+  expectSmoothedIsTheClone(smoothPath(path, nodes, {})[kClone], nodes[kClone], filter);
 }
 
 using test::meanError;
