@@ -195,6 +195,7 @@ JointBiasResult solveJointHeadingBias(const std::map<int, std::vector<Sighting>>
   result.offset_m = problem.offset(t);
   result.beacons = beacons;
   result.chi2 = chi2;
+  result.dof = dof;
   return result;
 }
 

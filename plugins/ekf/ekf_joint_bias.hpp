@@ -25,10 +25,12 @@ namespace ekf {
 
 struct JointBiasResult {
   bool ok = false;
+  bool misfit = false;  // refused by the EKF: chi2 beyond its gate (EkfSlam::jointHeadingBias)
   double db_rad_s = 0.0, db_sigma_rad_s = 0.0;
   double scale = 1.0, offset_m = 0.0;
   int beacons = 0, sightings_used = 0;
-  double chi2 = 0.0;
+  double chi2 = 0.0;  // at the solution, with the priors' terms
+  int dof = 0;        // sightings used less the unknowns (at least 1)
 };
 
 // sightings: each beacon's buffered sightings; start: each beacon's own solve (only the beacons

@@ -723,6 +723,7 @@ void EkfSlam::publishDiagnostics() {
   setDiagnostic("calibration_reruns_reinitialised", static_cast<double>(fresh_reruns_));
   setDiagnostic("ranges_gated", static_cast<double>(gated_));
   setDiagnostic("beacons_moved", static_cast<double>(beacons_moved_));
+  setDiagnostic("joint_bias_misfits", static_cast<double>(joint_bias_misfits_));
   setDiagnostic("smoother_unsmoothed_poses", static_cast<double>(first_smoothed_));
   // Above a few percent the filter is fighting its noise model: see gate_probability,
   // range_sigma_m and the odometry sigmas (the rejection reason names the gate).

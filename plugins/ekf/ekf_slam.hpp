@@ -256,6 +256,7 @@ class EkfSlam : public Estimator {
   std::map<int, std::deque<Sighting>> applied_sightings_;  // each such beacon's last applied ranges (the vote)
   std::vector<Insert> moves_;
   int beacons_moved_ = 0;
+  int64_t joint_bias_misfits_ = 0;  // joint heading-bias solves refused for their chi2
   // Live ranges to each beacon not yet initialised: counted accepted when it enters the state,
   // rejected at the end (with the check that kept it out) if it never does.
   std::map<int, int64_t> pending_live_ranges_;
