@@ -12,7 +12,8 @@
 // So the widening is put on trial (recover_trial_ranges): the filter runs on without it (A)
 // while the next ranges to known beacons are scored, then the steps since the trigger's are
 // re-run from their snapshot with it (B), scoring the same ranges, and B is kept where it explains
-// them better by a likelihood-ratio test at the 5 % level (decideRecoveryTrial). The score is each range's log-likelihood under an outlier mixture,
+// them better by a likelihood-ratio test at the 5 % level (decideRecoveryTrial). The score is each
+// range's log-likelihood under an outlier mixture,
 //   log[(1 - w) N(r - r_pred; 0, S) + w / span],
 // with S the range's predicted innovation variance, w the gated fraction of the live ranges so
 // far and span the longest range so far (both fixed at the trigger): a Bayes factor between

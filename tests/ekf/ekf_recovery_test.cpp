@@ -92,7 +92,8 @@ TEST(EkfRecovery, AWideningThatFindsALostFilterItsWayBackIsKept) {
   // and is kept. Mean error from step 300 on, measured: 59.50 m never widened, 2.82 m widened at
   // once and 2.82 m on trial (the same path: the trial costs a lost filter nothing), all with
   // the run of eight alone; with recover_consistent_gated alone (a beacon's gated ranges that
-  // repeat one innovation) 3.03 m; with both and the fit (the defaults) 2.72 m (2.97 before round 28b).
+  // repeat one innovation) 3.03 m; with both and the fit (the defaults) 2.72 m (2.97 before
+  // round 28b).
   sim::SimRun run = sim::simulate(sim::auvLikeWorld(301, 500));
   for (size_t k = 250; k < 260; ++k) run.odometry[k].forward_m = run.odometry[k].lateral_m = 0.0;
   auto errorAfterGlitch = [&](int recover_after_gated, int trial_ranges, int consistent_gated = 0, bool fit = true) {
@@ -132,8 +133,8 @@ TEST(EkfRecovery, ABeaconWhoseGatedRangesRepeatOneInnovationFindsALostFilterItsW
   // outliers. But a range to beacon 3 (the direction the filter is right in) or an outlier
   // that passes the gate comes between, so eight are never gated in a row; the heading then goes
   // 0.3-0.5 rad wrong and the path 160 m off. recover_consistent_gated widens at the fourth
-  // agreeing gated range (on trial, like any widening). Measured: 65.67 m without it (110.45 before round 28b), 3.01 m
-  // with it, dead reckoning 19.04 m.
+  // agreeing gated range (on trial, like any widening). Measured: 65.67 m without it (110.45
+  // before round 28b), 3.01 m with it, dead reckoning 19.04 m.
   const sim::SimRun run = sim::simulate(sim::auvLikeWorld(324, 500));
   const double dr_m = deadReckoningError(run);
   const Outcome without = runEkf(run, surveyedBeacons(EkfConfig{}.recover_trial_ranges, 0));
