@@ -11,8 +11,34 @@ SpectralSlam::SpectralSlam(const SpectralConfig& config) : config_(config) { che
 
 SpectralSlam::~SpectralSlam() = default;
 
-void SpectralSlam::startPath(const Pose& start) {
-  problem_.path.reset(start);
+void SpectralSlam::fixOrigin(const std::optional<Eigen::Vector2d>& start_m) {
+  if (have_origin_) return;
+  have_origin_ = true;
+  Eigen::Vector2d near_m = Eigen::Vector2d::Zero();
+  if (start_m) {
+    near_m = *start_m;
+  } else if (config_.anchor == SpectralAnchor::kBeacons && !surveyed_.empty()) {
+    for (const Beacon& b : surveyed_) near_m += Eigen::Vector2d(b.x_m, b.y_m);
+    near_m /= static_cast<double>(surveyed_.size());
+  }
+  // Multiples of the grid are exact in a double, and so is subtracting one from a nearby value.
+  origin_m_ = (near_m / kOriginGrid_m).array().round().matrix() * kOriginGrid_m;
+}
+
+Pose SpectralSlam::toWorld(Pose local) const {
+  local.x_m += origin_m_.x();
+  local.y_m += origin_m_.y();
+  return local;
+}
+
+std::optional<Eigen::Vector2d> SpectralSlam::surveyedLocal(int id) const {
+  for (const Beacon& b : surveyed_)
+    if (b.id == id) return Eigen::Vector2d(b.x_m, b.y_m) - origin_m_;
+  return std::nullopt;
+}
+
+void SpectralSlam::startPath(const Pose& start_local) {
+  problem_.path.reset(start_local);
   have_start_ = true;
   setState(EstimatorState::kTracking);
   if (config_.mode == SpectralMode::kOnline) {
@@ -22,32 +48,30 @@ void SpectralSlam::startPath(const Pose& start) {
 
 void SpectralSlam::setInitialPose(const Pose& start) {
   if (have_start_) return;  // the start is fixed once the path has begun
-  startPath(start);
+  fixOrigin(Eigen::Vector2d(start.x_m, start.y_m));
+  Pose local = start;
+  local.x_m -= origin_m_.x();
+  local.y_m -= origin_m_.y();
+  startPath(local);
 }
 
 void SpectralSlam::setBeacons(const Map& surveyed) {
   surveyed_ = surveyed;
-  for (size_t n = 0; n < problem_.beacon_ids.size(); ++n) {
-    problem_.surveyed[n].reset();
-    for (const Beacon& b : surveyed_)
-      if (b.id == problem_.beacon_ids[n]) problem_.surveyed[n] = Eigen::Vector2d(b.x_m, b.y_m);
-  }
+  for (size_t n = 0; n < problem_.beacon_ids.size(); ++n) problem_.surveyed[n] = surveyedLocal(problem_.beacon_ids[n]);
 }
 
 int SpectralSlam::beaconRow(int id) {
   const auto it = std::find(problem_.beacon_ids.begin(), problem_.beacon_ids.end(), id);
   if (it != problem_.beacon_ids.end()) return static_cast<int>(it - problem_.beacon_ids.begin());
   problem_.beacon_ids.push_back(id);
-  std::optional<Eigen::Vector2d> position;
-  for (const Beacon& b : surveyed_)
-    if (b.id == id) position = Eigen::Vector2d(b.x_m, b.y_m);
-  problem_.surveyed.push_back(position);
+  problem_.surveyed.push_back(surveyedLocal(id));
   return static_cast<int>(problem_.beacon_ids.size()) - 1;
 }
 
 void SpectralSlam::addOdometry(const Odometry& odometry) {
   if (solution_) return rejectOdometry("after finish");
-  if (!have_start_) {
+  if (!have_start_) {  // no start pose: the path starts at the local frame's origin
+    fixOrigin(std::nullopt);
     Pose origin;
     origin.utime = odometry.utime;
     startPath(origin);
@@ -56,13 +80,14 @@ void SpectralSlam::addOdometry(const Odometry& odometry) {
   problem_.path.append(odometry);
   acceptOdometry();
   if (online_) {
-    for (const Pose& pose : online_->advance(problem_)) emitPose(pose);
+    for (const Pose& pose : online_->advance(problem_)) emitPose(toWorld(pose));
   }
 }
 
 void SpectralSlam::addRange(const Range& range) {
   if (solution_) return rejectRange("after finish");
   if (!(range.range_m > 0.0)) return rejectRange("not positive");
+  fixOrigin(std::nullopt);  // before the beacon's row takes its surveyed position
   if (online_ && !online_->acceptsBeacon(range.beacon_id, problem_))
     return rejectRange("beacon first seen after the online solve started");
   RangeSample sample;
@@ -86,17 +111,21 @@ void SpectralSlam::finish() {
     noSolution("no odometry");
     return;
   }
+  SpectralSolution local;
   try {
-    solution_ = solveSpectral(problem_, config_);
+    local = solveSpectral(problem_, config_);
   } catch (const InsufficientData& too_little) {
     noSolution(too_little.what());
     return;
   }
-  if (online_) {
-    for (const Pose& pose : online_->flush(problem_, *solution_)) emitPose(pose);
-  } else {
-    for (const Pose& pose : solution_->trajectory) emitPose(pose);
+  const std::vector<Pose> unpublished = online_ ? online_->flush(problem_, local) : local.trajectory;
+  for (const Pose& pose : unpublished) emitPose(toWorld(pose));
+  for (Pose& pose : local.trajectory) pose = toWorld(pose);
+  for (Beacon& beacon : local.beacons) {
+    beacon.x_m += origin_m_.x();
+    beacon.y_m += origin_m_.y();
   }
+  solution_ = std::move(local);
   emitMap(solution_->beacons);
   setDiagnostic("solved_poses", solution_->solved_poses);
   setDiagnostic("state_scale", solution_->state_scale);

@@ -16,6 +16,17 @@
 // incremental SVD (Brand 2006, incremental_svd.hpp) each time an interpolation window closes and
 // the poses that no later window can change are emitted, so a pose comes out at most
 // window_s (+ one stride) after its odometry; at finish() the batch solution is the trajectory.
+//
+// Frame: the solve runs in a local frame, world = local + origin(). The model squares positions
+// (|m_n|^2/2 in C_n, |p_t|^2/2 in X_t), and at map-grid coordinates (UTM northings of 4.6e6 m)
+// those squares cancel every digit of a metre: surveyed beacons read as collinear and the start
+// pose's solve misfits by metres. origin() is fixed at the start pose or the first odometry or
+// range, whichever comes first: near the start pose if given, else near the surveyed beacons'
+// centroid (anchor = beacons), else at zero, snapped to a kOriginGrid_m grid, so a run within 500 m
+// of its frame's origin is solved exactly as given. Without a start pose the path starts at the
+// local frame's origin (the world origin, unless surveyed beacons far from it moved it). Inputs
+// are moved into the local frame as they arrive; POSE, MAP, TRAJECTORY and solution() are in the
+// world frame, problem() in the local one.
 #pragma once
 
 #include <map>
@@ -49,14 +60,22 @@ class SpectralSlam : public Estimator {
   const SpectralConfig& config() const { return config_; }
   // The batch solution (after finish()).
   const std::optional<SpectralSolution>& solution() const { return solution_; }
-  // The problem as collected so far (dead-reckoned path, ranges, beacons).
+  // The problem as collected so far (dead-reckoned path, ranges, beacons), in the local frame.
   const SpectralProblem& problem() const { return problem_; }
+  // The local frame's origin in the world frame (zero until the run gives a position).
+  const Eigen::Vector2d& origin() const { return origin_m_; }
+  static constexpr double kOriginGrid_m = 1000.0;
   // mode = online: the incremental solver (nullptr in batch mode).
   const OnlineSpectral* online() const { return online_.get(); }
 
  private:
   int beaconRow(int id);
-  void startPath(const Pose& start);
+  void startPath(const Pose& start_local);
+  // Fixes the local frame's origin, unless it is fixed already, near the start pose if given,
+  // else near the surveyed beacons' centroid (anchor = beacons), else at zero.
+  void fixOrigin(const std::optional<Eigen::Vector2d>& start_m);
+  Pose toWorld(Pose local) const;
+  std::optional<Eigen::Vector2d> surveyedLocal(int id) const;
   void noSolution(const std::string& reason);
   // mode = online, no solution at the end after poses went out live: the final TRAJECTORY is
   // empty, so what was published is withdrawn rather than scored as the answer.
@@ -64,7 +83,9 @@ class SpectralSlam : public Estimator {
 
   SpectralConfig config_;
   SpectralProblem problem_;
-  Map surveyed_;
+  Map surveyed_;  // as given (world frame)
+  Eigen::Vector2d origin_m_ = Eigen::Vector2d::Zero();
+  bool have_origin_ = false;
   bool have_start_ = false;
   std::optional<SpectralSolution> solution_;
   std::unique_ptr<OnlineSpectral> online_;

@@ -51,6 +51,43 @@ sim::SimConfig onlineWorld() {
   return c;
 }
 
+// Every pose, live or at the end, is published in the world frame: at map-grid coordinates (a
+// UTM easting and northing) the run publishes the poses it publishes at the origin, moved there.
+// Not to the bit: the local frame starts 345.6 m from its origin, so the sums round differently.
+TEST(OnlineSpectral, PublishesInTheWorldFrameAtMapGridCoordinates) {
+  constexpr double kTranslationTolerance_m = 1e-6;
+  const Eigen::Vector2d offset_m(412345.6, 4612345.7);
+  Path published[2];
+  for (int shifted = 0; shifted < 2; ++shifted) {
+    sim::SimConfig world = onlineWorld();
+    if (shifted) {
+      world.start.x_m = offset_m.x();
+      world.start.y_m = offset_m.y();
+    }
+    const sim::SimRun run = sim::simulate(world);
+    SpectralConfig config;
+    config.mode = SpectralMode::kOnline;
+    SpectralSlam slam(config);
+    slam.setInitialPose(run.start);
+    slam.setBeacons(run.beacons);
+    size_t r = 0;
+    for (const Odometry& odometry : run.odometry) {
+      slam.addOdometry(odometry);
+      while (r < run.ranges.size() && run.ranges[r].utime <= odometry.utime) slam.addRange(run.ranges[r++]);
+      for (const Pose& pose : slam.takePoses()) published[shifted].push_back(pose);
+    }
+    slam.finish();
+    for (const Pose& pose : slam.takePoses()) published[shifted].push_back(pose);
+  }
+  ASSERT_EQ(published[0].size(), published[1].size());
+  ASSERT_EQ(published[0].size(), onlineWorld().num_steps + 1u);
+  double worst_m = 0.0;
+  for (size_t k = 0; k < published[0].size(); ++k)
+    worst_m = std::max(worst_m, std::hypot(published[1][k].x_m - offset_m.x() - published[0][k].x_m,
+                                           published[1][k].y_m - offset_m.y() - published[0][k].y_m));
+  EXPECT_LT(worst_m, kTranslationTolerance_m);
+}
+
 TEST(OnlineSpectral, PublishesEveryPoseOnceWithBoundedLatency) {
   const sim::SimRun run = sim::simulate(onlineWorld());
   SpectralConfig config;

@@ -76,6 +76,56 @@ INSTANTIATE_TEST_SUITE_P(RanksAndAnchors, NoiseFreeRecovery,
                                             ::testing::Values(SpectralAnchor::kBeacons,
                                                               SpectralAnchor::kStartPose)));
 
+// The same world at map-grid coordinates (a UTM easting and northing): the model squares
+// positions, so without the local frame the surveyed beacons read as collinear and the start
+// pose's solve misfits by metres. Recovery is exact in the world frame, as at the origin.
+TEST_P(NoiseFreeRecovery, RecoversExactlyAtMapGridCoordinates) {
+  sim::SimConfig world = figure1aWorld();
+  world.start.x_m = 412345.6;
+  world.start.y_m = 4612345.7;
+  const sim::SimRun run = sim::simulate(world);
+  SpectralConfig config;
+  config.rank = std::get<0>(GetParam());
+  config.anchor = std::get<1>(GetParam());
+  SpectralSlam slam(config);
+  feed(slam, run);
+  slam.finish();
+  Path path;
+  ASSERT_TRUE(slam.trajectory(true, &path)) << slam.lastRejection();
+  ASSERT_EQ(path.size(), run.ground_truth.size());
+  EXPECT_EQ(slam.origin(), Eigen::Vector2d(412000.0, 4612000.0));
+  const auto errors = pathErrors(path, run.ground_truth);
+  EXPECT_LT(errors.max_m, kExactTolerance_m);
+  EXPECT_LT(errors.max_heading_rad, kExactHeadingTolerance_rad);
+  Map map;
+  ASSERT_TRUE(slam.takeMap(&map));
+  EXPECT_LT(maxBeaconError(map, run.beacons), kExactTolerance_m);
+}
+
+// With surveyed beacons and no start pose the local frame is centred on the survey: the path's
+// positions come from the beacons alone, exact as at the origin.
+TEST(SpectralSlam, SurveyedBeaconsAtMapGridCoordinatesNeedNoStartPose) {
+  sim::SimConfig world = figure1aWorld();
+  world.start.x_m = 412345.6;
+  world.start.y_m = 4612345.7;
+  const sim::SimRun run = sim::simulate(world);
+  SpectralConfig config;
+  config.anchor = SpectralAnchor::kBeacons;
+  SpectralSlam slam(config);
+  test::FeedOptions options;
+  options.with_start = false;
+  options.finish = false;
+  test::feed(run, slam, options);
+  slam.finish();
+  Path path;
+  ASSERT_TRUE(slam.trajectory(true, &path)) << slam.lastRejection();
+  // The path starts at the first odometry's time (that step has no pose before it).
+  const Path truth(run.ground_truth.begin() + 1, run.ground_truth.end());
+  ASSERT_EQ(path.size(), truth.size());
+  EXPECT_EQ(slam.origin(), Eigen::Vector2d(412000.0, 4612000.0));
+  EXPECT_LT(pathErrors(path, truth).max_m, kExactTolerance_m);
+}
+
 TEST(SpectralSlam, RangeScaleIsOneGlobalStateScale) {
   // Ranges 7 % long: d^2 scales by 1.07^2 = 1.1449, so X = 1.1449 X_true and s must be 1.1449;
   // positions p = -X[1:2]/s are then exact.
