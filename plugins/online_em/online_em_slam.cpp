@@ -84,6 +84,7 @@ void OnlineEmSlam::setInitialPose(const Pose& start_pose) {
 
 void OnlineEmSlam::setBeacons(const Map& surveyed) {
   if (config_.anchor != OnlineEmConfig::Anchor::kBeacons) return;
+  surveyed_ = surveyed;
   for (const Beacon& beacon : surveyed) {
     Landmark& landmark = landmarks_[landmarkIndex(beacon.id)];
     Eigen::Matrix2d covariance;
@@ -753,11 +754,9 @@ void OnlineEmSlam::checkBiasObservable(int64_t range_utime) {
   if (decision == Decision::kUndecided) return;
   setDiagnostic("heading_rate_bias_estimated", decision == Decision::kEstimate ? 1.0 : 0.0);
   if (decision == Decision::kHold) note(bias_rate_.heldNote("heading_rate_bias_max_drift_rad"));
-  if (!recordsForSmoothing()) {
-    // smooth_trajectory = sparse on dense ranges: what the backward pass would have needed goes.
-    std::vector<Input>().swap(all_inputs_);
-    std::vector<estimation::PoseTransition>().swap(transitions_);
-  }
+  // smooth_trajectory = sparse on dense ranges: what the backward pass would have needed goes.
+  if (!keepsInputs()) std::vector<Input>().swap(all_inputs_);
+  if (!recordsForSmoothing()) std::vector<estimation::PoseTransition>().swap(transitions_);
 }
 
 bool OnlineEmSlam::smoothsTrajectory() const {
@@ -767,7 +766,11 @@ bool OnlineEmSlam::smoothsTrajectory() const {
 }
 
 void OnlineEmSlam::keepForRepass(const Input& input) {
-  if (recordsForSmoothing() && config_.trajectory_repass && !replaying_) all_inputs_.push_back(input);
+  if (keepsInputs() && !replaying_) all_inputs_.push_back(input);
+}
+
+bool OnlineEmSlam::keepsInputs() const {
+  return (recordsForSmoothing() && config_.trajectory_repass) || retriesWithBiasEstimated();
 }
 
 bool OnlineEmSlam::recordsForSmoothing() const {
@@ -900,13 +903,15 @@ void OnlineEmSlam::finish() {
   }
   pending_live_ranges_.clear();
   setDiagnostic("landmarks_never_initialised", static_cast<double>(never_initialised));
-  if (fallbackEnabled() && learned_outlier_weight_ >= kMaxOutlierWeight) fallBackToDeadReckoning();
-  setDiagnostic("trajectory_smoothed", smoothsTrajectory() && !fallen_back_ ? 1.0 : 0.0);
+  if (fallbackEnabled() && learned_outlier_weight_ >= kMaxOutlierWeight && !retryWithBiasEstimated())
+    fallBackToDeadReckoning();
+  if (!bias_retry_) setDiagnostic("trajectory_smoothed", smoothsTrajectory() && !fallen_back_ ? 1.0 : 0.0);
   setState(EstimatorState::kFinished);
 }
 
 bool OnlineEmSlam::trajectory(bool force, Path* path) {
   if (path_.empty() || (!force && state() != EstimatorState::kFinished)) return false;
+  if (bias_retry_) return bias_retry_->trajectory(true, path);
   if (fallen_back_)
     *path = deadReckonedPath();
   else

@@ -130,6 +130,7 @@
 
 #include <array>
 #include <map>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -300,7 +301,8 @@ class OnlineEmSlam : public Estimator {
     Range range;
   };
   std::vector<Input> inputs_;
-  std::vector<Input> all_inputs_;  // every input, for trajectory_repass
+  std::vector<Input> all_inputs_;  // every input, for trajectory_repass and the bias retry
+  bool keepsInputs() const;
   bool recording_ = false, rerun_pending_ = false, replaying_ = false;
   double heading_rate_bias_sigma_rad_s_ = kNaN;
   estimation::OdometryCalibration window_calibration_;  // the early window was dead-reckoned with it
@@ -348,6 +350,13 @@ class OnlineEmSlam : public Estimator {
   void recordDeadReckonedRanges(const std::vector<Range>& ranges);
   void fallBackToDeadReckoning();
   Path deadReckonedPath() const;  // the published TRAJECTORY once fallen back
+  // Before falling back with surveyed beacons: a run that held the heading-rate bias at 0 (the
+  // sparse-rate rule) is re-run once on every input with the bias estimated, and that run is
+  // published where its outlier weight ends under the bound (dead_reckoning_fallback.cpp).
+  bool retriesWithBiasEstimated() const;
+  bool retryWithBiasEstimated();
+  Map surveyed_;                                // as given (anchor = beacons)
+  std::unique_ptr<OnlineEmSlam> bias_retry_;    // the re-run whose path is published
   // One per step (32 bytes, not a Pose's 104: the fallback is rare and the run may be long).
   struct DeadReckonedPose {
     int64_t utime = 0;
