@@ -21,6 +21,7 @@ void addEkfOptions(Options& o, EkfConfig* c) {
         "anchor = beacons: filters run side by side with the odometry's translation noise 1 ... translation_noise_max_factor times configured; the best predictor of the ranges is published (1: the configured noise alone)").min(1).max(16);
   o.add("translation_noise_max_factor", &c->translation_noise_max_factor, "largest factor on the translation noise sigma in the bank").min(1.0);
   o.add("translation_noise_drop_nats", &c->translation_noise_drop_nats, "a model whose range log-likelihood falls this far behind the best is dropped (0: never)").min(0.0);
+  o.add("gyro_bias_twins", &c->gyro_bias_twins, "anchor = beacons: where gyro_bias_max_drift_rad holds the heading-rate bias at 0, each model of the bank has a twin that estimates it, and the ranges choose");
   o.add("estimate_odometry_calibration", &c->estimate_odometry_calibration, "estimate odometry distance scale and heading-rate bias as states");
   o.add("odo_scale_sigma", &c->odo_scale_sigma, "prior sigma of the odometry distance scale (mean 1)").min(0.0, false);
   o.add("gyro_bias_sigma_rad_s", &c->gyro_bias_sigma_rad_s, "prior sigma of the heading-rate bias (rad/s)").min(0.0, false);

@@ -78,6 +78,10 @@ class EkfSlam : public Estimator {
   bool trajectory(bool force, Path* path) override;
 
   bool started() const { return started_; }
+  // The sparse-rate rule on the heading-rate bias (gyro_bias_max_drift_rad): still to decide (the
+  // first 20 ranges), or decided to hold it at 0.
+  bool headingRateBiasUndecided() const { return bias_undecided_; }
+  bool headingRateBiasHeld() const { return bias_fixed_; }
   const EkfFilter& filter() const { return filter_; }
   const Path& path() const { return path_; }  // filtered path, one pose per step
   Map currentMap() const;
