@@ -71,12 +71,12 @@ void EkfBank::follow() {
   const bool twins = std::any_of(models_.begin(), models_.end(), [](const Model& m) { return m.bias_always; });
   if (twins && original != models_.end() && !original->filter->headingRateBiasUndecided() &&
       !original->filter->headingRateBiasHeld()) {
+    if (models_[best_].bias_always) previous = nullptr;  // the published model goes
     std::vector<Model> held;
     for (Model& model : models_)
       if (!model.bias_always) held.push_back(std::move(model));
     models_ = std::move(held);
     best_ = 0;
-    previous = nullptr;
   }
   // The best: the highest score, the smaller factor on a tie (the configured noise first, the
   // held bias before its twin).

@@ -27,6 +27,7 @@
 // bound were all worse than dead reckoning (1.4-2.3 x).
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <vector>
@@ -90,7 +91,9 @@ bool OnlineEmSlam::retryWithBiasEstimated() {
   retry->finish();
   const double weight = retry->learned_outlier_weight_;
   setDiagnostic("bias_retry_outlier_weight", weight);
-  setDiagnostic("bias_retry_bias_sigmas", std::abs(retry->calibration_.heading_rate_bias_rad_s) / retry->heading_rate_bias_sigma_rad_s_);
+  const double sigma_b = retry->heading_rate_bias_sigma_rad_s_;
+  if (std::isfinite(sigma_b) && sigma_b > 0.0)
+    setDiagnostic("bias_retry_bias_sigmas", std::abs(retry->calibration_.heading_rate_bias_rad_s) / sigma_b);
   char text[400];
   if (weight >= kMaxOutlierWeight) {
     note("re-run with the heading-rate bias estimated (the held run lost the vehicle): its outlier weight ended at "

@@ -105,7 +105,9 @@
 // outlier weight w1 ends the run at its bound (kMaxOutlierWeight), fewer than 1 - w1 of the ranges
 // fit: from the start pose a map fitted to those same ranges (below the breakdown point), with
 // surveyed beacons the path (the cloud lost the vehicle). The TRAJECTORY is then the odometry
-// composed from the start pose; from the start pose the map is multilaterated from it.
+// composed from the start pose; from the start pose the map is multilaterated from it. With
+// surveyed beacons, a run that held the heading-rate bias at 0 is first re-run with it estimated
+// (a drifting gyro is the other explanation of a lost cloud at sparse rates).
 //
 // Published trajectory (smooth_trajectory, default sparse: anchor = beacons where the ranges are
 // too sparse for the heading-rate bias rule): POSE streams the filtered cloud's
@@ -352,7 +354,8 @@ class OnlineEmSlam : public Estimator {
   Path deadReckonedPath() const;  // the published TRAJECTORY once fallen back
   // Before falling back with surveyed beacons: a run that held the heading-rate bias at 0 (the
   // sparse-rate rule) is re-run once on every input with the bias estimated, and that run is
-  // published where its outlier weight ends under the bound (dead_reckoning_fallback.cpp).
+  // published where its outlier weight ends under the bound and its bias is significant (a
+  // drifting gyro explains the loss; dead_reckoning_fallback.cpp).
   bool retriesWithBiasEstimated() const;
   bool retryWithBiasEstimated();
   Map surveyed_;                                // as given (anchor = beacons)
