@@ -31,6 +31,10 @@ EkfBank::EkfBank(const EkfConfig& config) : config_(config) {
   if (twins) twin_penalty_nats_ = 0.5 * boost::math::quantile(boost::math::chi_squared(1.0), config.gate_probability);
 }
 
+bool EkfBank::hasTwins() const {
+  return std::any_of(models_.begin(), models_.end(), [](const Model& m) { return m.bias_always; });
+}
+
 double EkfBank::score(const Model& model) const {
   return model.filter->predictiveLogLikelihood() - (model.bias_always ? twin_penalty_nats_ : 0.0);
 }
@@ -68,8 +72,7 @@ void EkfBank::follow() {
   // Once the rule estimates the bias, the twins are the held models over again: dropped (unless
   // every held model was dropped first, far behind them).
   const auto original = std::find_if(models_.begin(), models_.end(), [](const Model& m) { return !m.bias_always; });
-  const bool twins = std::any_of(models_.begin(), models_.end(), [](const Model& m) { return m.bias_always; });
-  if (twins && original != models_.end() && !original->filter->headingRateBiasUndecided() &&
+  if (hasTwins() && original != models_.end() && !original->filter->headingRateBiasUndecided() &&
       !original->filter->headingRateBiasHeld()) {
     if (models_[best_].bias_always) previous = nullptr;  // the published model goes
     std::vector<Model> held;
@@ -114,7 +117,7 @@ void EkfBank::follow() {
   for (size_t k = 0; k < models_.size(); ++k)
     if (k != best_) runner_up = std::max(runner_up, score(models_[k]));
   setDiagnostic("translation_noise_margin_nats", std::isfinite(runner_up) ? best_sum - runner_up : config_.translation_noise_drop_nats);
-  setDiagnostic("heading_rate_bias_models", std::any_of(models_.begin(), models_.end(), [](const Model& m) { return m.bias_always; }) ? 2.0 : 1.0);
+  setDiagnostic("heading_rate_bias_models", hasTwins() ? 2.0 : 1.0);
   if (state() == EstimatorState::kFinished && models_[best_].bias_always)
     note("the heading-rate bias estimated at these sparse rates predicts the ranges better than held at 0 "
          "(gyro_bias_max_drift_rad): published with it");

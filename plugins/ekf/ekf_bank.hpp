@@ -28,10 +28,11 @@
 // 3.7 x dead reckoning). On a slow UWB robot ranging every 6.7 s with a 0.005 rad/s gyro the same
 // rule loses the vehicle (19.7 m, dead reckoning 21.9; estimated: 0.18). So each translation-noise
 // model has a twin that estimates the bias at any rate (gyro_bias_max_drift_rad = 0), and the
-// ranges choose between them as between the noise models. A twin adds one free quantity, so it is
-// chosen only where its sum beats its held model's by the chi-square 1-dof quantile at
-// gate_probability (half of 10.8 nats at 0.999), and twins are dropped as soon as the rule decides
-// that the bias is estimated (every run at UWB rates: there the twins would be the same filter).
+// ranges choose between them as between the noise models. A twin adds one free quantity, so its
+// sum is scored less half the 1-dof chi-square quantile at gate_probability (5.4 nats at 0.999: a
+// likelihood-ratio test against the best held model), and twins are dropped as soon as the rule
+// decides that the bias is estimated (every run at UWB rates: there the twins would be the same
+// filter).
 #pragma once
 
 #include <memory>
@@ -71,6 +72,7 @@ class EkfBank : public Estimator {
   // The model's sum as the bank compares it: a twin pays for its free bias.
   double score(const Model& model) const;
   double twin_penalty_nats_ = 0.0;
+  bool hasTwins() const;
   // One input to every model, then follow().
   template <typename Input>
   void toEveryModel(Input input) {

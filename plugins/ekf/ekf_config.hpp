@@ -36,7 +36,7 @@ struct EkfConfig {
   double translation_noise_drop_nats = 20.0;
   // anchor = beacons: each model of the bank has a twin with gyro_bias_max_drift_rad = 0 (the
   // heading-rate bias estimated at any rate), chosen where its range log-likelihood beats the
-  // held model's by the 1-dof chi-square quantile at gate_probability (ekf_bank.hpp).
+  // best held model's by half the 1-dof chi-square quantile at gate_probability (ekf_bank.hpp).
   bool gyro_bias_twins = true;
 
   // Odometry calibration as filter states (estimation::OdometryCalibration): distance scale s
