@@ -36,6 +36,7 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("recover_after_gated", &c->recover_after_gated, "ranges gated in a row before the position variance is widened (0: never)").min(0);
   o.add("recover_consistent_gated", &c->recover_consistent_gated, "ranges to one beacon gated in a row whose innovations agree within the gate before the position variance is widened (0: never)").min(0);
   o.add("recover_consistent_fit", &c->recover_consistent_fit, "where a beacon's repeated innovation is an excess, the consistency trigger widens only where one position error explains it and the other surveyed beacons' applied ones (false: the run alone)");
+  o.add("recover_offset_reopen", &c->recover_offset_reopen, "with recover_consistent_fit: a surveyed beacon's repeated shortfall that no one position error explains and its own range offset, long by as much, would take back re-opens that offset's variance (false: widens the pose)");
   o.add("recover_trial_ranges", &c->recover_trial_ranges, "ranges scored with and without a starvation widening before one is kept (0: widen at once)").min(0);
   o.add("lost_beacon_gated_ranges", &c->lost_beacon_gated_ranges,
         "a beacon placed from the ranges whose last this many ranges were all gated is re-solved from them and moved where they place it (0: never)").min(0);

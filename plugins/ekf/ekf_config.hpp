@@ -109,6 +109,11 @@ struct EkfConfig {
   // of sight only lengthens a path, so repeated short ranges are the filter's either way. Needs
   // three beacons in two directions; fewer: the run alone decides.
   bool recover_consistent_fit = true;
+  // ... and where a surveyed beacon's repeated innovation is a shortfall that its own range offset,
+  // long by at least as much, would take back (within the gate's width), and no one position
+  // error explains it, that offset took up an excess (a stretch of NLOS ranges agree as a real
+  // offset would): its variance is re-opened by the shortfall instead of the pose's.
+  bool recover_offset_reopen = true;
   // ... and the widening is put on trial: the filter runs on without it while the next this many
   // ranges to known beacons are scored, then the steps since are re-run with it, and whichever
   // run explains those ranges better (outlier-mixture likelihood) is kept. With half the ranges

@@ -91,6 +91,11 @@ void EkfFilter::inflatePose(double var_m2, double var_rad2) {
   P_(kHeading, kHeading) += var_rad2;
 }
 
+void EkfFilter::inflateBeaconOffset(int id, double var_m2) {
+  const int o = beaconOffsetIndex(id);
+  if (o >= 0) P_(o, o) += var_m2;
+}
+
 void EkfFilter::addBeacon(int id, const Eigen::Vector2d& world_m, const Eigen::Matrix2d& cov_m2,
                           double offset_sigma_m) {
   addBeacon(id, world_m, cov_m2, Eigen::MatrixXd::Zero(2, size()));

@@ -141,6 +141,8 @@ class EkfFilter {
   }
   // Adds var to the pose block's diagonal (x, y, heading): re-opens a starved filter.
   void inflatePose(double var_m2, double var_rad2);
+  // Adds var_m2 to the variance of a beacon's own range offset (no-op without one).
+  void inflateBeaconOffset(int id, double var_m2);
   double scale() const { return with_bias_ ? x_(kScale) : 1.0; }
   double offset() const { return with_bias_ ? x_(kOffset) : 0.0; }
   const Eigen::VectorXd& mean() const { return x_; }

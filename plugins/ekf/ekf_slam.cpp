@@ -732,6 +732,7 @@ void EkfSlam::publishDiagnostics() {
   setDiagnostic("starvation_recoveries", static_cast<double>(recoveries_));
   setDiagnostic("starvation_recoveries_declined", static_cast<double>(recoveries_declined_));
   setDiagnostic("consistent_gated_runs_declined", static_cast<double>(consistent_runs_declined_));
+  setDiagnostic("beacon_offsets_reopened", static_cast<double>(offsets_reopened_));
   setDiagnostic("motion_noise_scale", adapt_.motion_noise_scale);
   setDiagnostic("range_noise_scale", adapt_.range_noise_scale);
   setDiagnostic("predictive_log_likelihood", predictive_log_likelihood_);

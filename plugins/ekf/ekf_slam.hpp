@@ -300,6 +300,7 @@ class EkfSlam : public Estimator {
   int64_t recoveries_ = 0;
   int64_t recoveries_declined_ = 0;   // widenings whose trial the run without them won
   int64_t consistent_runs_declined_ = 0;  // repeated innovations no one position error explains
+  int64_t offsets_reopened_ = 0;           // repeated shortfalls that re-opened a beacon's offset
   RecoveryTrial trial_;
   bool trial_rerun_ = false;          // re-running the trial's steps with the widening
   bool finishing_ = false;            // finish(): a starvation run widens at once
