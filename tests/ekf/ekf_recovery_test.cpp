@@ -148,20 +148,30 @@ TEST(EkfRecovery, ABeaconWhoseGatedRangesRepeatOneInnovationFindsALostFilterItsW
   EXPECT_GE(with.diagnostics.at("starvation_recoveries"), 1.0);
 }
 
+// The seed sweep's nlos30-episodes: 30 % NLOS in stretches of 20 s on average.
+sim::SimRun nlosInStretches(int seed) {
+  sim::SimConfig world = sim::nlos30LawnMowerWorld(seed, 3000);
+  world.outlier_episode_s = 20.0;
+  return sim::simulate(world);
+}
+
+// The surveyed-beacon filter on one run with a rule turned off (first) and with the defaults.
+template <typename TurnOff>
+std::pair<Outcome, Outcome> withoutAndWith(const sim::SimRun& run, TurnOff turn_off) {
+  EkfConfig off = surveyedBeacons();
+  turn_off(off);
+  return {runEkf(run, off), runEkf(run, surveyedBeacons())};
+}
+
 TEST(EkfRecovery, ABeaconOutOfSightForAWhileIsNotTakenForALostFilter) {
   // NLOS in stretches (the seed sweep's nlos30-episodes, seed 310): a beacon behind a wall for
   // ~20 s gives ~7 ranges in a row, each long by one excess, while the other beacons' ranges pass
   // with none. The consistency trigger took that for a lost filter and widened onto it (the trial
   // kept the widening: the blocked beacon's next ranges fit it). recover_consistent_fit asks
   // that one position error explain the repeated innovation and the other beacons' applied ones.
-  sim::SimConfig world = sim::nlos30LawnMowerWorld(310, 3000);
-  world.outlier_episode_s = 20.0;
-  const sim::SimRun run = sim::simulate(world);
+  const sim::SimRun run = nlosInStretches(310);
   const double dr_m = deadReckoningError(run);
-  EkfConfig run_alone = surveyedBeacons();
-  run_alone.recover_consistent_fit = false;
-  const Outcome without = runEkf(run, run_alone);
-  const Outcome with = runEkf(run, surveyedBeacons());
+  const auto [without, with] = withoutAndWith(run, [](EkfConfig& config) { config.recover_consistent_fit = false; });
   std::printf("NLOS in stretches, seed 310, beacons: the run alone %.2f m, one position error %.2f m, dead reckoning %.2f m\n",
               without.error_m, with.error_m, dr_m);
   EXPECT_GT(without.error_m, 1.5 * dr_m);  // the failure it is for: the test can fail
@@ -177,14 +187,9 @@ TEST(EkfRecovery, ABeaconOffsetThatTookUpAnNlosStretchIsReopened) {
   // Its line-of-sight ranges are then short by it, gated in a row, and the consistency trigger
   // widened the pose onto them (7 m off for 30 s). recover_offset_reopen re-opens that offset
   // instead, and its next range pulls it back.
-  sim::SimConfig world = sim::nlos30LawnMowerWorld(301, 3000);
-  world.outlier_episode_s = 20.0;
-  const sim::SimRun run = sim::simulate(world);
+  const sim::SimRun run = nlosInStretches(301);
   const double dr_m = deadReckoningError(run);
-  EkfConfig pose_only = surveyedBeacons();
-  pose_only.recover_offset_reopen = false;
-  const Outcome without = runEkf(run, pose_only);
-  const Outcome with = runEkf(run, surveyedBeacons());
+  const auto [without, with] = withoutAndWith(run, [](EkfConfig& config) { config.recover_offset_reopen = false; });
   auto largestOffset = [](const Outcome& outcome) {
     double largest_m = 0.0;
     for (const auto& [key, value] : outcome.diagnostics)
@@ -208,9 +213,7 @@ TEST(EkfRecovery, AWideningThatWinsByChanceIsDeclined) {
   // 1.7 nats better (it had found a stretch to fit) and was kept: 12-18 m off for the next minute,
   // the run 1.62 m, dead reckoning's. The widening must now pass a likelihood-ratio test at the
   // 5 % level (2 x 1.7 < 3.84): measured 0.12 m.
-  sim::SimConfig world = sim::nlos30LawnMowerWorld(1009, 3000);
-  world.outlier_episode_s = 20.0;
-  const sim::SimRun run = sim::simulate(world);
+  const sim::SimRun run = nlosInStretches(1009);
   const double dr_m = deadReckoningError(run);
   const Outcome outcome = runEkf(run, surveyedBeacons());
   std::printf("NLOS in stretches, seed 1009, beacons: %.2f m (dead reckoning %.2f m), %.0f widenings declined\n", outcome.error_m,
