@@ -33,6 +33,7 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
   o.add("loss_scale", &c->loss_scale, "robust loss scale in sigmas (0: the loss's 95 % efficiency constant)").min(0.0);
   o.add("loss_anneal_stages", &c->loss_anneal_stages, "solves with a narrowing robust loss").min(1).max(10);
   o.add("loss_anneal_factor", &c->loss_anneal_factor, "loss scale ratio between annealing stages").min(1.0);
+  o.add("loss_anneal_check", &c->loss_anneal_check, "each annealed solve is also made from the same start at the final loss scale alone, and the lower cost is kept");
   o.add("estimate_range_scale", &c->estimate_range_scale, "estimate a shared range scale");
   o.add("estimate_range_offset", &c->estimate_range_offset, "estimate a shared range offset");
   o.add("estimate_odometry_calibration", &c->estimate_odometry_calibration,

@@ -103,6 +103,12 @@ struct SpectralBatchConfig {
   // that factor per stage, so a start far from the optimum is not down-weighted into a stall.
   int loss_anneal_stages = 3;
   double loss_anneal_factor = 4.0;
+  // The annealing is a way to the optimum, not the objective: a wide first stage can let ranges
+  // that agree with each other but not with the rest (an NLOS stretch) bend the path into a basin
+  // the narrow stages keep. Each annealed solve is also made from the same start at the final
+  // scale alone, and the lower cost (the same objective) is kept. Solves from a seed only: the
+  // warm-started re-solves (noise scale, gauge) start in the basin already chosen.
+  bool loss_anneal_check = true;
 
   // Calibration of the ranging radio: measured = scale * |beacon - robot| + offset, with one
   // scale and one offset shared by all beacons, estimated with the rest (UWB ranges are often

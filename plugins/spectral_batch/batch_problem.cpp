@@ -169,6 +169,17 @@ Eigen::Matrix3d odometryCovariance(const SpectralBatchConfig& config, const Odom
   return covariance;
 }
 
+namespace {
+// Copies every value of from into to's storage (same sizes), which Ceres' problem points into.
+void copyValues(const State& from, State* to) {
+  std::copy(from.poses.begin(), from.poses.end(), to->poses.begin());
+  std::copy(from.beacons.begin(), from.beacons.end(), to->beacons.begin());
+  std::copy(from.beacon_offsets_m.begin(), from.beacon_offsets_m.end(), to->beacon_offsets_m.begin());
+  to->calibration = from.calibration;
+  to->odometry_calibration = from.odometry_calibration;
+}
+}  // namespace
+
 Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* state,
               bool evaluate_only) {
   const size_t num_poses = state->poses.size();
@@ -336,6 +347,9 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     if (std::isfinite(spread)) start_scale = std::clamp(spread, final_scale, start_scale);
   }
   const double ratio = stages > 1 ? std::pow(start_scale / final_scale, 1.0 / (stages - 1)) : 1.0;
+  // loss_anneal_check: the start, to solve from again at the final scale alone.
+  const bool check_annealing = robust && stages > 1 && !evaluate_only && problem.from_seed && config.loss_anneal_check;
+  const State start = check_annealing ? *state : State{};
   for (int stage = 0; stage < (evaluate_only ? 0 : stages); ++stage) {
     if (robust) {
       const double scale = final_scale * std::pow(ratio, stages - 1 - stage);
@@ -352,6 +366,27 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     summary.report += stage_summary.BriefReport() + "\n";
     ++summary.stages;
     if (!summary.usable) break;
+  }
+  if (check_annealing) {
+    // The loss is at the final scale now. Ceres' problem holds pointers into *state, so values
+    // are copied in place.
+    const State annealed = *state;
+    copyValues(start, state);
+    ceres::Solver::Summary direct;
+    ceres::Solve(options, &ceres_problem, &direct);
+    summary.iterations += direct.num_successful_steps + direct.num_unsuccessful_steps;
+    summary.time_s += direct.total_time_in_seconds;
+    ++summary.stages;
+    if (direct.IsSolutionUsable() && (!summary.usable || direct.final_cost < summary.final_cost)) {
+      summary.final_cost = direct.final_cost;
+      summary.usable = true;
+      summary.converged = direct.termination_type == ceres::CONVERGENCE;
+      summary.report += "at the final scale alone: " + direct.BriefReport() + " (kept)\n";
+      ++summary.anneal_check_kept;
+    } else {
+      copyValues(annealed, state);
+      summary.report += "at the final scale alone: " + direct.BriefReport() + "\n";
+    }
   }
   // The split of the final cost: ranges (with the final loss) and the rest.
   // Inliers: within kInlierWindowSigmas of the range's sigma, whatever the loss (the window of

@@ -320,7 +320,9 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
   problem.range_sigma_factor = noise_factors[1];
   problem.heading_as_stated = heading_as_stated_;
   if (heading_as_stated_) state.odometry_calibration[1] = 0.0;
+  problem.from_seed = true;
   out.summary = spectral_batch::solve(config_, problem, &state, evaluate_only);
+  problem.from_seed = false;  // the trials below and the candidate's later solves are warm
   // The odometry noise scale k by maximum likelihood (profile over k): every odometry sigma times
   // k adds n log k to the negative log-likelihood (n odometry residuals) and divides their squares
   // by k^2. k = 1, 2, 4, ... is tried, each solve warm-started from the last, while the
@@ -686,6 +688,7 @@ void SpectralBatchSlam::solveNow(bool final) {
   setDiagnostic("solves", solves_);
   setDiagnostic("solver_iterations", summary_.iterations);
   setDiagnostic("solver_stages", summary_.stages);
+  setDiagnostic("solver_final_scale_kept", summary_.anneal_check_kept);
   setDiagnostic("solver_converged", summary_.converged ? 1.0 : 0.0);
   setDiagnostic("solver_initial_cost", summary_.initial_cost);
   setDiagnostic("solver_final_cost", summary_.final_cost);
