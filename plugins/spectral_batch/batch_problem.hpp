@@ -57,8 +57,9 @@ struct Problem {
   // sparse_heading_as_stated in force (batch_config.hpp): each step's heading noise as its
   // odometry message states it (odometryCovariance) and the heading-rate bias held at its value.
   bool heading_as_stated = false;
-  // A solve from a seed (not warm-started from a solution): with loss_anneal_check, the annealed
-  // solve is also made at the final loss scale alone, and the lower cost is kept.
+  // A candidate's first solve, from its seed (SpectralBatchSlam::solveFrom): with
+  // loss_anneal_check, the annealed solve is also made at the final loss scale alone, and the
+  // lower cost is kept. The re-solves that follow (noise scale, gauge) are warm and not checked.
   bool from_seed = false;
 };
 
@@ -73,11 +74,11 @@ struct State {
 };
 
 struct Summary {
-  int iterations = 0;           // over every annealing stage
-  int stages = 0;                // annealing stages, and loss_anneal_check's solve
-  int anneal_check_kept = 0;     // 1 where the solve at the final scale alone was kept
+  int iterations = 0;           // over every stage (annealing, loss_anneal_check's)
+  int stages = 0;               // annealing stages, and loss_anneal_check's solve
+  int anneal_check_kept = 0;    // 1 where the solve at the final scale alone was kept
   double initial_cost = 0.0;    // of the first stage (Ceres' 1/2 sum of squares)
-  double final_cost = 0.0;      // of the last stage
+  double final_cost = 0.0;      // of the solution kept
   double time_s = 0.0;          // Ceres' wall time over every stage
   bool usable = false;          // Ceres' IsSolutionUsable() on the last stage
   bool converged = false;       // the last stage stopped on a tolerance (not on max_iterations)
