@@ -27,7 +27,8 @@
 // outlier that slips through, breaks the run while the other beacons' inliers are gated with one
 // innovation each. So a surveyed beacon's ranges gated in a row that agree on one innovation
 // start the same trial (recover_consistent_gated, consistentlyGated). A run of ranges too short
-// that no position error explains re-opens that beacon's own range offset instead.
+// by what that beacon's own range offset took up, which no position error explains, re-opens the
+// offset instead (recover_offset_reopen).
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -85,20 +86,19 @@ bool EkfSlam::consistentlyGated(const GatedRange& gated) {
   if (agreeing < config_.recover_consistent_gated) return false;
   // A repeated excess (ranges long: a blocked line of sight only lengthens the path) that no one
   // position error explains is the beacon's, not the filter's (recover_consistent_fit).
+  if (config_.recover_consistent_fit && innovation_m > 0.0 && !onePositionErrorExplains(gated)) {
+    if (!trial_rerun_) ++consistent_runs_declined_;
+    return false;
+  }
   // A repeated shortfall that the beacon's own offset, long by at least as much, would take back
-  // (within the gate's width): the offset took up an excess, for a stretch of NLOS ranges agree
-  // with each other as a real offset would.
+  // (within the gate's width), and that no one position error explains: the offset took up an
+  // excess, for a stretch of NLOS ranges agree with each other as a real offset would. Its
+  // variance is re-opened by the shortfall, as the pose's is in a widening, so that the next range
+  // to the beacon passes and pulls the offset back; the pose stays where the other beacons hold it.
   const bool offset_took_excess = config_.recover_offset_reopen && innovation_m < 0.0 &&
                                   filter_.beaconOffsetIndex(beacon_id) >= 0 &&
                                   filter_.beaconOffset(beacon_id) + innovation_m >= -width_m;
-  if (config_.recover_consistent_fit && (innovation_m > 0.0 || offset_took_excess) && !onePositionErrorExplains(gated)) {
-    if (innovation_m > 0.0) {
-      if (!trial_rerun_) ++consistent_runs_declined_;
-      return false;
-    }
-    // No one position error explains it, so it is that offset: its variance is re-opened by the
-    // shortfall, as the pose's is in a widening, so that the next range to the beacon passes and
-    // pulls the offset back; the pose is left as the other beacons hold it.
+  if (config_.recover_consistent_fit && offset_took_excess && !onePositionErrorExplains(gated)) {
     filter_.inflateBeaconOffset(beacon_id, innovation_m * innovation_m);
     adapt_.gated_runs.erase(beacon_id);
     if (!trial_rerun_) ++offsets_reopened_;
