@@ -142,7 +142,7 @@ int runLive(const RunConfig& config, std::vector<EstimatorSlot> slots, LogSink* 
   for (const std::string& channel :
        {config.odometry_channel, config.range_channel, config.initial_pose_channel,
         config.beacons_channel, config.ground_truth_channel}) {
-    bus.subscribe(channel, &Receiver::onMessage, &receiver);
+    bus.subscribe(channel, &Receiver::onMessage, &receiver)->setQueueCapacity(kInputQueueCapacity);
   }
   std::fprintf(stderr, "roam-run: live on %s (Ctrl-C to finish)\n", url.c_str());
   const auto start = std::chrono::steady_clock::now();

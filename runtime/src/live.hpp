@@ -29,6 +29,13 @@ struct LiveOptions {
 // inputs on a loaded two-core host). Other URLs are returned unchanged.
 std::string liveBusUrl(const std::string& url);
 
+// How many received messages LCM may hold per input channel while roam-run is busy. LCM's
+// default is 30, and past it LCM drops the message without a word: at 20x Plaza 1 that is 0.3 s
+// of odometry, so a 0.5 s pause of the process (a page fault storm, a descheduled VM) lost
+// odometry and ranges. 100000 is 100 s of 1 kHz odometry (a few tens of MB); a backlog that
+// long is reported long before (the live backlog warning, at 1 s).
+constexpr int kInputQueueCapacity = 100000;
+
 // Returns 0, or 2 if the bus cannot be opened (nothing has run then). `host` receives the
 // host so the caller can print the summary.
 int runLive(const RunConfig& config, std::vector<EstimatorSlot> slots, LogSink* log,
