@@ -24,9 +24,10 @@ struct LiveOptions {
 // The URL roam-run opens for a live input: a udpm:// URL without recv_buf_size gets
 // recv_buf_size=4194304 (4 MB, which the kernel caps at net.core.rmem_max). A UDP multicast
 // socket receives every datagram on its port, roam-run's own outputs included: a final
-// TRAJECTORY of Plaza 1 is ~200 datagrams in one burst, and behind it the kernel's default
-// 208 KB buffer dropped odometry and ranges whenever roam-run was slow to read (49 of 13186
-// inputs on a loaded two-core host). Other URLs are returned unchanged.
+// TRAJECTORY of Plaza 1 is ~200 datagrams in one burst, and the kernel's default
+// 208 KB buffer can overflow behind it whenever roam-run is slow to read. (The 49 of 13186 inputs
+// once lost on a loaded two-core host were probably lost in LCM's queue, kInputQueueCapacity
+// below, not in the socket.) Other URLs are returned unchanged.
 std::string liveBusUrl(const std::string& url);
 
 // How many received messages LCM may hold per input channel while roam-run is busy. LCM's
