@@ -24,17 +24,17 @@ struct LiveOptions {
 // The URL roam-run opens for a live input: a udpm:// URL without recv_buf_size gets
 // recv_buf_size=4194304 (4 MB, which the kernel caps at net.core.rmem_max). A UDP multicast
 // socket receives every datagram on its port, roam-run's own outputs included: a final
-// TRAJECTORY of Plaza 1 is ~200 datagrams in one burst, and the kernel's default
-// 208 KB buffer can overflow behind it whenever roam-run is slow to read. (The 49 of 13186 inputs
-// once lost on a loaded two-core host were probably lost in LCM's queue, kInputQueueCapacity
-// below, not in the socket.) Other URLs are returned unchanged.
+// TRAJECTORY of Plaza 1 is ~200 datagrams in one burst, and the kernel's default 208 KB buffer
+// can overflow behind it whenever roam-run is slow to read. (The 49 of 13186 inputs once lost on
+// a loaded two-core host were probably lost in LCM's queue, kInputQueueCapacity below, not in
+// the socket.) Other URLs are returned unchanged.
 std::string liveBusUrl(const std::string& url);
 
 // How many received messages LCM may hold per input channel while roam-run is busy. LCM's
 // default is 30, and past it LCM drops the message without a word: at 20x Plaza 1 that is 0.3 s
-// of odometry, so a 0.5 s pause of the process (a page fault storm, a descheduled VM) lost
-// odometry and ranges. 100000 is 100 s of 1 kHz odometry (a few tens of MB); a backlog that
-// long is reported long before (the live backlog warning, at 1 s).
+// of odometry, so any longer pause of the process lost odometry and ranges (CI's live tests
+// showed stalls of 0.34-0.82 s, cause unknown). 100000 is 100 s of 1 kHz odometry (a few tens
+// of MB); a backlog that long is reported long before (the live backlog warning, at 1 s).
 constexpr int kInputQueueCapacity = 100000;
 
 // Returns 0, or 2 if the bus cannot be opened (nothing has run then). `host` receives the
