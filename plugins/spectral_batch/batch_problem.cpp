@@ -347,12 +347,20 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     if (std::isfinite(spread)) start_scale = std::clamp(spread, final_scale, start_scale);
   }
   const double ratio = stages > 1 ? std::pow(start_scale / final_scale, 1.0 / (stages - 1)) : 1.0;
-  // loss_anneal_check: the start, to solve from again at the final scale alone.
-  const bool check_annealing = robust && stages > 1 && !evaluate_only && problem.from_seed && config.loss_anneal_check;
+  // loss_anneal_check: the start, to solve from again at the final scale alone. Not where the
+  // first stage is at the final scale already (a seed whose residuals' spread is the inliers'):
+  // that solve is the first stage's own, from the same start.
+  const bool check_annealing = robust && stages > 1 && !evaluate_only && problem.from_seed &&
+                               config.loss_anneal_check && start_scale > final_scale;
   const State start = check_annealing ? *state : State{};
+  double last_scale = 0.0;
   for (int stage = 0; stage < (evaluate_only ? 0 : stages); ++stage) {
     if (robust) {
       const double scale = final_scale * std::pow(ratio, stages - 1 - stage);
+      // A stage at the scale of the converged stage before it would re-solve the same problem
+      // from its own minimum (the clamped start above makes every stage's scale the final one).
+      if (stage > 0 && scale == last_scale && summary.converged) continue;
+      last_scale = scale;
       loss.Reset(makeLoss(config.loss, scale).release(), ceres::TAKE_OWNERSHIP);
     }
     ceres::Solver::Summary stage_summary;

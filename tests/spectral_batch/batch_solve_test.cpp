@@ -156,6 +156,38 @@ TEST(BatchSolve, FixedBeaconsAreTheGauge) {
   expectExact(state, truth);
 }
 
+TEST(BatchSolve, ASeedAtTheInliersSpreadIsSolvedOnceAtTheFinalScale) {
+  // The first stage starts at the seed's robust residual spread, clamped to the final scale:
+  // from a seed within the ranges' noise every stage is at the final scale, so the annealed solve
+  // is the single-stage solve (one Ceres solve, bit-identical) and loss_anneal_check has nothing
+  // to add. From a seed metres off the stages and the check are all made.
+  const Dataset run = sim::simulate(smallRun());
+  SpectralBatchConfig config;  // cauchy, 3 stages, loss_anneal_check
+  std::map<int, int> beacon_index;
+  Problem problem = problemOf(run, config, &beacon_index);
+  problem.from_seed = true;
+  const State truth = truthOf(run, beacon_index);
+
+  State annealed = truth;
+  const Summary summary = solve(config, problem, &annealed);
+  ASSERT_TRUE(summary.usable) << summary.report;
+  EXPECT_EQ(summary.stages, 1) << summary.report;
+  SpectralBatchConfig one_stage = config;
+  one_stage.loss_anneal_stages = 1;
+  State single = truth;
+  ASSERT_TRUE(solve(one_stage, problem, &single).usable);
+  for (size_t k = 0; k < truth.poses.size(); ++k)
+    for (int i = 0; i < 3; ++i) ASSERT_EQ(annealed.poses[k][i], single.poses[k][i]) << "pose " << k;
+  for (size_t j = 0; j < truth.beacons.size(); ++j)
+    for (int i = 0; i < 2; ++i) ASSERT_EQ(annealed.beacons[j][i], single.beacons[j][i]) << "beacon " << j;
+
+  State far = truth;
+  for (auto& beacon : far.beacons) beacon[0] += 20.0;  // ranges off by metres: a wide first stage
+  const Summary from_far = solve(config, problem, &far);
+  ASSERT_TRUE(from_far.usable) << from_far.report;
+  EXPECT_EQ(from_far.stages, 4) << from_far.report;  // three stages and the check
+}
+
 TEST(BatchSolve, RejectsInconsistentProblems) {
   SpectralBatchConfig config;
   Problem problem;
