@@ -99,15 +99,18 @@ struct SpectralBatchConfig {
   // start of one run).
   Loss loss = Loss::kCauchy;
   double loss_scale = 0.0;
-  // Annealing: the robust loss starts loss_anneal_factor^(stages-1) times wider and narrows by
-  // that factor per stage, so a start far from the optimum is not down-weighted into a stall.
+  // Annealing: the robust loss starts up to loss_anneal_factor^(stages-1) times wider (at the
+  // seed's robust residual spread, never under the final scale) and narrows evenly per stage, so a
+  // start far from the optimum is not down-weighted into a stall. A seed at the inliers' spread
+  // is solved once, at the final scale.
   int loss_anneal_stages = 3;
   double loss_anneal_factor = 4.0;
   // The annealing is a way to the optimum, not the objective: a wide first stage can let ranges
   // that agree with each other but not with the rest (an NLOS stretch) bend the path into a basin
   // the narrow stages keep. Each annealed solve is also made from the same start at the final
   // scale alone, and the lower cost (the same objective) is kept. Solves from a seed only: the
-  // warm-started re-solves (noise scale, gauge) start in the basin already chosen.
+  // warm-started re-solves (noise scale, gauge) start in the basin already chosen; and not where
+  // the first stage is at the final scale already (the same solve).
   bool loss_anneal_check = true;
 
   // Calibration of the ranging radio: measured = scale * |beacon - robot| + offset, with one
