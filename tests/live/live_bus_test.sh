@@ -2,10 +2,13 @@
 # Live-mode tests on a real LCM bus, inside private network namespaces (no packet can leave the
 # machine). Exit 77 (ctest: skipped) where namespaces cannot be created.
 #
-#   live_bus_test.sh BUILD_DIR SOURCE_DIR one-host|three-hosts|sigint
+#   live_bus_test.sh BUILD_DIR SOURCE_DIR one-host|three-hosts|sigint RECORDER
 #
-# one-host:    player, roam-run and lcm-logger in one namespace (multicast on lo). lcm-logplayer
-#              plays logs/plaza1.lcmlog at 20x; the estimates lcm-logger records must score as
+# RECORDER is bus_recorder (bus_recorder.cpp): lcm-logger with a subscription queue that a busy
+# host cannot overflow (lcm-logger's holds LCM's default 30 messages, and dropped some at 20x).
+#
+# one-host:    player, roam-run and the recorder in one namespace (multicast on lo). lcm-logplayer
+#              plays logs/plaza1.lcmlog at 20x; the estimates the recorder records must score as
 #              the deterministic replay does (mean error within TOLERANCE_M), with no input lost,
 #              though roam-run is stopped for 1 s (SIGSTOP) 20 s into the playback.
 # three-hosts: the same, with player, runtime and logger in three namespaces joined by a bridge
@@ -13,7 +16,7 @@
 # sigint:      SIGINT during a live run leaves a complete output log (every event decodes, and
 #              the estimators' final TRAJECTORY_* messages are in it).
 set -uo pipefail
-build="$1"; source="$2"; mode="$3"
+build="$1"; source="$2"; mode="$3"; recorder="${4:-}"
 speed="${ROAM_LIVE_SPEED:-20}"
 tolerance_m=0.001   # live and replay see the same messages in the same order: same estimates
 bin="$build/bin"
@@ -34,6 +37,7 @@ trap cleanup EXIT
 
 skip() { echo "SKIPPED: $*"; exit 77; }
 fail() { echo "FAILED: $*"; for f in "$work"/*.txt; do echo "--- $f"; tail -20 "$f"; done; exit 1; }
+[ -x "$recorder" ] || fail "no recorder: give the path of bus_recorder as the fourth argument"
 
 make_ns() {  # name: a namespace with multicast on lo
   ip netns add "$1" 2>/dev/null || skip "cannot create network namespaces here (needs root and iproute2)"
@@ -46,7 +50,7 @@ url_lo="udpm://239.255.76.67:7667?ttl=0"
 url_net="udpm://239.255.76.67:7667?ttl=1"
 # A final TRAJECTORY_* of Plaza 1 is ~310 KB: over a 1500-byte MTU that is ~200 datagrams in one
 # burst, more than the kernel's default 208 KB receive buffer holds, and one lost datagram loses
-# the message. The logger asks for 4 MB (capped by net.core.rmem_max), as LCM advises for large
+# the message. The recorder asks for 4 MB (capped by net.core.rmem_max), as LCM advises for large
 # messages.
 recv_buf="recv_buf_size=4194304"
 
@@ -77,7 +81,7 @@ fi
 "$bin/roam-run" "$config" --no-progress --output "$work/replay.lcmlog" >"$work/replay.txt" 2>&1 \
   || fail "the reference replay failed"
 
-ip netns exec "$ns_logger" lcm-logger --lcm-url="$url&$recv_buf" -f "$work/recorded.lcmlog" >"$work/logger.txt" 2>&1 &
+ip netns exec "$ns_logger" "$recorder" "$url&$recv_buf" "$work/recorded.lcmlog" >"$work/logger.txt" 2>&1 &
 logger_pid=$!
 ip netns exec "$ns_runtime" "$bin/roam-run" "$config" --input "$url" --output "$work/live.lcmlog" \
   >"$work/runtime.txt" 2>&1 &
@@ -123,7 +127,7 @@ received=$(grep -o "input: [0-9]* events, [0-9]* odometry, [0-9]* ranges" "$work
 [ "$expected" = "$received" ] || fail "roam-run received $received odometry+range messages, the log has $expected"
 
 # roam-run's own output log holds exactly the replay's estimates (same messages, same order), and
-# the estimates lcm-logger recorded on its host score as the replay does.
+# the estimates the recorder recorded on its host score as the replay does.
 "$bin/roam-eval" "$work/replay.lcmlog" --format csv >"$work/replay-score.txt" 2>&1 || fail "roam-eval (replay)"
 "$bin/roam-eval" "$work/live.lcmlog" --format csv >"$work/live-score.txt" 2>&1 || fail "roam-eval (live)"
 python3 "$source/tests/live/compare_scores.py" "$work/replay-score.txt" "$work/live-score.txt" 1e-9 \
