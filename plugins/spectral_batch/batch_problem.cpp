@@ -353,14 +353,12 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
   const bool check_annealing = robust && stages > 1 && !evaluate_only && problem.from_seed &&
                                config.loss_anneal_check && start_scale > final_scale;
   const State start = check_annealing ? *state : State{};
-  double last_scale = 0.0;
   for (int stage = 0; stage < (evaluate_only ? 0 : stages); ++stage) {
     if (robust) {
+      // With ratio 1 (the clamped start above) every stage is at the final scale: a stage after
+      // a converged one would re-solve the same problem from its own minimum.
+      if (stage > 0 && ratio == 1.0 && summary.converged) continue;
       const double scale = final_scale * std::pow(ratio, stages - 1 - stage);
-      // A stage at the scale of the converged stage before it would re-solve the same problem
-      // from its own minimum (the clamped start above makes every stage's scale the final one).
-      if (stage > 0 && scale == last_scale && summary.converged) continue;
-      last_scale = scale;
       loss.Reset(makeLoss(config.loss, scale).release(), ceres::TAKE_OWNERSHIP);
     }
     ceres::Solver::Summary stage_summary;
