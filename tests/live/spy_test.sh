@@ -27,13 +27,22 @@ ip -n "$ns" route add 224.0.0.0/4 dev lo
 url="udpm://239.255.76.67:7667?ttl=0"
 
 Xvfb "$display" -screen 0 1280x800x24 >/dev/null 2>&1 & xvfb_pid=$!
-sleep 1
+for _ in $(seq 50); do [ -e "/tmp/.X11-unix/X${display#:}" ] && break; sleep 0.2; done
 DISPLAY="$display" ip netns exec "$ns" "$bin/roam-spy" --lcm-url="$url" >"$work/spy.txt" 2>&1 &
-for _ in $(seq 100); do grep -q "LCM types" "$work/spy.txt" && break; sleep 0.2; done
+for _ in $(seq 300); do grep -q "LCM types" "$work/spy.txt" && break; sleep 0.2; done
 grep -q "Found 8 LCM types" "$work/spy.txt" || { echo "FAILED: spy did not find the 8 roam types (7 messages and the older odometry layout)"; cat "$work/spy.txt"; exit 1; }
+# BEACONS and INITIAL_POSE are sent once, at the log's start: play only once spy's LCM socket is
+# bound to the bus port. lcm.spy.Spy prints "Found N LCM types", then builds and shows its window,
+# then opens LCM and subscribes; on a loaded host that took longer than the 2 s this test used to
+# wait, and spy never saw BEACONS.
+port="${url##*:}"; port="${port%%\?*}"
+bound_to_bus() { ip netns exec "$ns" ss -Hulpn "sport = :$port" 2>/dev/null | grep -c "(\"$1\""; }
+for _ in $(seq 300); do [ "$(bound_to_bus java)" -ge 1 ] && break; sleep 0.2; done
+[ "$(bound_to_bus java)" -ge 1 ] || { echo "FAILED: spy did not open LCM on port $port within 60 s"; cat "$work/spy.txt"; exit 1; }
 ip netns exec "$ns" "$bin/roam-run" "$source/tests/live/live.ini" --input "$url" --output "" \
   >"$work/runtime.txt" 2>&1 &
-sleep 1
+for _ in $(seq 300); do grep -q "live on" "$work/runtime.txt" && break; sleep 0.2; done
+grep -q "live on" "$work/runtime.txt" || { echo "FAILED: roam-run did not go live within 60 s"; cat "$work/runtime.txt"; exit 1; }
 ip netns exec "$ns" lcm-logplayer --lcm-url="$url" -s 20 "$source/logs/plaza1.lcmlog" >/dev/null 2>&1 &
 sleep 6
 DISPLAY="$display" import -window root "$work/screen.png"
@@ -44,7 +53,7 @@ cat "$work/ocr.txt"
 status=0
 # OCR reads '_' as ' ' now and then: compare with spaces and underscores removed.
 squash() { tr -d ' _' | tr 'a-z' 'A-Z'; }
-for pair in ODOMETRY:odometry_t RANGE:range_t BEACONS:map_t POSE_DR:pose_t STATUS_DR:estimator_status_t TRAJECTORY_DR:trajectory_t; do
+for pair in ODOMETRY:odometry_t RANGE:range_t BEACONS:map_t INITIAL_POSE:pose_t GROUND_TRUTH:pose_t POSE_DR:pose_t STATUS_DR:estimator_status_t TRAJECTORY_DR:trajectory_t; do
   channel="${pair%%:*}"; type="${pair##*:}"
   line="$(squash <"$work/ocr.txt" | grep "^$(echo "$channel" | squash)" | head -1)"
   if [ -z "$line" ] || ! echo "$line" | grep -q "$(echo "$type" | squash)" || echo "$line" | grep -q '??'; then
