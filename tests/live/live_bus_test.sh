@@ -86,7 +86,10 @@ logger_pid=$!
 ip netns exec "$ns_runtime" "$bin/roam-run" "$config" --input "$url" --output "$work/live.lcmlog" \
   >"$work/runtime.txt" 2>&1 &
 runtime_pid=$!
-for _ in $(seq 100); do grep -q "live on" "$work/runtime.txt" && break; sleep 0.1; done
+# Play only once both listeners are subscribed (INITIAL_POSE and BEACONS are sent once, first).
+for _ in $(seq 600); do grep -q "live on" "$work/runtime.txt" && grep -q "recording" "$work/logger.txt" && break; sleep 0.1; done
+grep -q "live on" "$work/runtime.txt" || fail "roam-run did not go live within 60 s"
+grep -q "recording" "$work/logger.txt" || fail "the recorder did not start within 60 s"
 sleep 0.5
 if [ "$mode" = "sigint" ]; then
   ip netns exec "$ns_player" lcm-logplayer --lcm-url="$url" -s "$speed" "$log" >"$work/player.txt" 2>&1 &
