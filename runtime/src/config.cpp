@@ -96,6 +96,9 @@ void addRuntimeOptions(Options& o, RunConfig* c) {
   o.add("trajectory_interval_s", &c->trajectory_interval_s, "live mode: ask smoothers for their path this often (data time)").min(0.0);
   o.add("status_interval_s", &c->status_interval_s, "STATUS_* at least this often (data time)").min(0.0);
   o.add("max_odometry_gap_s", &c->max_odometry_gap_s, "a larger odometry gap counts as dropped steps").min(0.0);
+  o.add("reorder_window_s", &c->reorder_window_s,
+        "odometry and ranges are held this long (data time) and fed in utime order: a range that arrives up to "
+        "this late still meets its odometry step (0: arrival order)").min(0.0).max(3600.0);
   o.add("isolation", &c->isolated, {{"none", false}, {"process", true}}, "estimators' default: in roam-run's process or their own");
   o.add("max_update_s", &c->max_update_s, "estimators' default wall-clock limit per update (0: none)").min(0.0);
   o.add("max_finish_s", &c->max_finish_s, "estimators' default wall-clock limit of finish (0: none)").min(0.0);

@@ -71,6 +71,7 @@ struct RunConfig {
   double trajectory_interval_s = 10.0;  // live mode: request paths this often (data time); 0 = end only
   double status_interval_s = 1.0;       // STATUS_* at least this often (data time)
   double max_odometry_gap_s = 1.0;      // a larger gap between odometry stamps counts as dropped steps
+  double reorder_window_s = 1.0;        // odometry and ranges fed in utime order within this (data time)
   bool isolated = false;                // [runtime] isolation: the estimators' default
   double max_update_s = 0.0;            // the estimators' default time limits (0 = none)
   double max_finish_s = 0.0;

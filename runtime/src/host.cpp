@@ -1,8 +1,11 @@
 #include "host.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <sstream>
+#include <tuple>
 
 #include "roam/estimator_status_t.hpp"
 #include "roam/messages.hpp"
@@ -56,9 +59,90 @@ bool Host::acceptInOrder(const std::string& channel, int64_t utime, const void* 
   return true;
 }
 
+namespace {
+template <typename Message>
+bool decode(const void* data, int size, Message* message) {
+  return decodeMessage(data, size, message) >= 0;  // never throws on damaged bytes
+}
+}  // namespace
+
 void Host::onEvent(const std::string& channel, int64_t event_utime, const void* data, int size) {
   ++counters_.events;
   if (input_sink_ != nullptr) input_sink_->write(channel, event_utime, data, size);
+  const bool odometry = channel == config_.odometry_channel;
+  if (!odometry && channel != config_.range_channel) {
+    dispatch(channel, data, size);
+    return;
+  }
+  int64_t utime = 0;
+  bool decoded = false;
+  if (odometry) {
+    roam::odometry_t message;
+    decoded = decode(data, size, &message);
+    utime = message.utime;
+  } else {
+    roam::range_t message;
+    decoded = decode(data, size, &message);
+    utime = message.utime;
+  }
+  if (!decoded) {  // counted as undecodable when fed
+    dispatch(channel, data, size);
+    return;
+  }
+  newest_received_utime_ = std::max(newest_received_utime_, utime);
+  if (utime < newest_fed_utime_) {
+    // Later than the window: fed now, out of time order, and counted with how far it arrived
+    // behind the newest input (if fed: going back on its own channel too, or a duplicate, it is
+    // skipped and counted as such).
+    const int64_t fed_before = counters_.odometry + counters_.ranges;
+    dispatch(channel, data, size);
+    if (counters_.odometry + counters_.ranges > fed_before) {
+      ++counters_.late;
+      counters_.late_max_s = std::max(counters_.late_max_s, secondsBetween(newest_received_utime_, utime));
+    }
+    return;
+  }
+  if (config_.reorder_window_s <= 0.0) {
+    dispatch(channel, data, size);
+    return;
+  }
+  Held held;
+  held.utime = utime;
+  held.arrival = arrivals_++;
+  held.odometry = odometry;
+  const auto* bytes = static_cast<const uint8_t*>(data);
+  held.data.assign(bytes, bytes + size);
+  // At equal stamps odometry first: a step stamped t is the motion up to t, and a range stamped t
+  // was measured at its end (as roam-sim, roam-import and Plaza 1's logs order them).
+  const auto before = [](const Held& a, const Held& b) {
+    return std::make_tuple(a.utime, !a.odometry, a.arrival) < std::make_tuple(b.utime, !b.odometry, b.arrival);
+  };
+  held_.insert(std::upper_bound(held_.begin(), held_.end(), held, before), std::move(held));
+  const auto window_us = static_cast<int64_t>(std::llround(config_.reorder_window_s * 1e6));
+  releaseHeld(newest_received_utime_ < INT64_MIN + window_us ? INT64_MIN : newest_received_utime_ - window_us);
+}
+
+void Host::releaseHeld(int64_t utime) {
+  while (!held_.empty() && held_.front().utime <= utime) {
+    const Held held = std::move(held_.front());
+    held_.pop_front();
+    dispatch(held.odometry ? config_.odometry_channel : config_.range_channel, held.data.data(),
+             static_cast<int>(held.data.size()));
+  }
+}
+
+std::string Host::lateInputWarning() const {
+  if (counters_.late == 0) return "";
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "warning: %lld odometry and range messages arrived up to %.3f s (data time) behind the newest input, "
+                "beyond reorder_window_s (%g s): they were fed on arrival, after inputs stamped later (a range "
+                "applied to a later pose); look at key reorder_window_s",
+                static_cast<long long>(counters_.late), counters_.late_max_s, config_.reorder_window_s);
+  return text;
+}
+
+void Host::dispatch(const std::string& channel, const void* data, int size) {
   cpu_before_.resize(estimators_.size());
   for (size_t i = 0; i < estimators_.size(); ++i) {
     cpu_before_[i] = estimators_[i].instance->failed() ? -1.0 : estimators_[i].instance->cpuTotalSeconds();
@@ -83,13 +167,6 @@ void Host::onEvent(const std::string& channel, int64_t event_utime, const void* 
   }
 }
 
-namespace {
-template <typename Message>
-bool decode(const void* data, int size, Message* message) {
-  return decodeMessage(data, size, message) >= 0;  // never throws on damaged bytes
-}
-}  // namespace
-
 bool Host::feedOdometry(const void* data, int size) {
   roam::odometry_t message;
   if (!decode(data, size, &message)) {
@@ -104,6 +181,7 @@ bool Host::feedOdometry(const void* data, int size) {
     ++counters_.odometry_gaps;
   }
   last_odometry_utime_ = message.utime;
+  newest_fed_utime_ = std::max(newest_fed_utime_, message.utime);
   const roam_odometry odometry = fromMessage(message);
   for (auto& slot : estimators_) slot.instance->addOdometry(odometry);
   return true;
@@ -118,6 +196,7 @@ bool Host::feedRange(const void* data, int size) {
   }
   if (!acceptInOrder(config_.range_channel, message.utime, data, size)) return false;
   ++counters_.ranges;
+  newest_fed_utime_ = std::max(newest_fed_utime_, message.utime);
   const roam_range range = fromMessage(message);
   for (auto& slot : estimators_) slot.instance->addRange(range);
   return true;
@@ -210,11 +289,12 @@ void Host::publishStatus(EstimatorSlot& slot) {
   message.last_error = instance.error();
   message.keys = status.keys;
   message.values = status.values;
-  // What the host skipped before any estimator saw it (the same for every estimator).
+  // What the host skipped before any estimator saw it, and fed late (the same for every estimator).
   const std::pair<const char*, int64_t> skipped[] = {
       {"input skipped: undecodable", counters_.undecodable},
       {"input skipped: out of order", counters_.out_of_order},
-      {"input skipped: duplicates", counters_.duplicates}};
+      {"input skipped: duplicates", counters_.duplicates},
+      {"input fed late: beyond reorder_window_s", counters_.late}};
   for (const auto& [key, count] : skipped) {
     message.keys.push_back(key);
     message.values.push_back(static_cast<double>(count));
@@ -237,6 +317,7 @@ void Host::maybeRequestTrajectories() {
 }
 
 void Host::finish() {
+  releaseHeld(INT64_MAX);  // what the reorder window still held
   // Every estimator's end of input is started before any output is read, so estimators on
   // workers or in child processes solve at the same time; outputs are published in order.
   std::vector<double> before_s;
@@ -327,6 +408,7 @@ std::vector<std::string> Host::summary() const {
   if (counters_.out_of_order) input << ", " << counters_.out_of_order << " out of order (skipped)";
   if (counters_.duplicates) input << ", " << counters_.duplicates << " duplicates (skipped)";
   if (counters_.odometry_gaps) input << ", " << counters_.odometry_gaps << " gaps in the odometry clock";
+  if (counters_.late) input << ", " << counters_.late << " fed late (beyond reorder_window_s)";
   lines.push_back(input.str());
   return lines;
 }

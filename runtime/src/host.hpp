@@ -1,12 +1,21 @@
-// The host: feeds input events to every estimator instance in event order and turns their
-// outputs into LCM messages for a sink (an output log, the bus, or both).
+// The host: feeds input events to every estimator instance and turns their outputs into LCM
+// messages for a sink (an output log, the bus, or both).
 //
-// Inputs are decoded once and checked here, the same for every estimator: an event that does
+// Odometry and ranges are fed in utime order (odometry first at equal stamps): each is held until
+// an input stamped reorder_window_s later has arrived (or the input ends), so a range that reaches
+// the log or the bus after odometry stamped later than it (a radio's or a modem's latency) still
+// meets its own odometry step. Inputs arriving in that order are fed as they arrive; one that
+// arrives later than the window is fed on arrival and counted (InputCounters::late). Replay and
+// live mode hold by data time alike, so both feed the same order.
+//
+// Inputs are decoded and checked here, the same for every estimator: an event that does
 // not decode, a message whose utime goes backwards on its channel, or an exact duplicate is
 // skipped and counted. Estimators see message utimes only (never the receive time).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <memory>
 #include <string>
@@ -47,6 +56,11 @@ struct InputCounters {
   int64_t out_of_order = 0;
   int64_t duplicates = 0;
   int64_t odometry_gaps = 0;  // gaps in the odometry clock beyond max_odometry_gap_s
+  // Odometry and ranges that arrived after an input stamped later had been fed (beyond
+  // reorder_window_s): fed on arrival, out of time order; and how far the latest of them
+  // arrived behind the newest input (s, data time).
+  int64_t late = 0;
+  double late_max_s = 0.0;
   std::map<std::string, int64_t> undecodable_by_channel;
 };
 
@@ -59,6 +73,8 @@ class Host {
 
   // One input event, as read from a log or received from the bus.
   void onEvent(const std::string& channel, int64_t event_utime, const void* data, int size);
+  // A warning naming reorder_window_s where inputs arrived later than it; "" if none did.
+  std::string lateInputWarning() const;
   // Live mode: ask smoothers for their path if trajectory_interval_s has passed.
   void maybeRequestTrajectories();
   // End of input: finish every estimator, publish final poses, maps, paths and statuses.
@@ -67,6 +83,8 @@ class Host {
   const InputCounters& counters() const { return counters_; }
   const std::vector<EstimatorSlot>& estimators() const { return estimators_; }
   int64_t dataUtime() const { return data_utime_; }
+  // The newest data time received, held for reordering or not (live mode's quiet-bus report).
+  int64_t receivedUtime() const { return std::max(data_utime_, newest_received_utime_); }
   // Two summary lines per estimator (counts and total CPU; CPU per update), and the input
   // counters.
   std::vector<std::string> summary() const;
@@ -76,6 +94,10 @@ class Host {
   bool anyFailed() const;
 
  private:
+  // One event to the estimators now (what onEvent did before the reordering).
+  void dispatch(const std::string& channel, const void* data, int size);
+  // Feeds the held inputs stamped at or before `utime`, in (utime, arrival) order.
+  void releaseHeld(int64_t utime);
   // Each returns whether the message reached the estimators (false: skipped and counted).
   bool feedOdometry(const void* data, int size);
   bool feedRange(const void* data, int size);
@@ -104,6 +126,18 @@ class Host {
     bool warned = false;
   };
   std::map<std::string, ChannelHistory> history_;
+  // Odometry and ranges held for reordering, sorted by (utime, odometry first, arrival); the newest utime
+  // received and the newest fed.
+  struct Held {
+    int64_t utime = 0;
+    uint64_t arrival = 0;
+    bool odometry = false;
+    std::vector<uint8_t> data;
+  };
+  std::deque<Held> held_;
+  uint64_t arrivals_ = 0;
+  int64_t newest_received_utime_ = INT64_MIN;
+  int64_t newest_fed_utime_ = INT64_MIN;
   std::vector<uint8_t> buffer_;
   std::vector<double> cpu_before_;  // per estimator, at the start of an event
 };

@@ -54,7 +54,7 @@ class Receiver {
   void onMessage(const lcm::ReceiveBuffer* buffer, const std::string& channel) {
     host_->onEvent(channel, buffer->recv_utime, buffer->data, static_cast<int>(buffer->data_size));
     host_->maybeRequestTrajectories();
-    quiet_->onMessage(channel, host_->dataUtime(), std::chrono::system_clock::now());
+    quiet_->onMessage(channel, host_->receivedUtime(), std::chrono::system_clock::now());
     const int64_t now = wallUtime();
     const double lag_s = static_cast<double>(now - buffer->recv_utime) * 1e-6;
     lags_ms_.push_back(lag_s * 1e3);

@@ -200,6 +200,7 @@ int main(int argc, char** argv) {
   if (log_sink) log_sink->flush();
   if (log_sink && log_sink->failed()) return outputError(*log_sink);
   for (const auto& line : host->summary()) std::fprintf(stderr, "%s\n", line.c_str());
+  if (const std::string late = host->lateInputWarning(); !late.empty()) std::fprintf(stderr, "roam-run: %s\n", late.c_str());
   for (size_t i = 0; i < host->estimators().size() && i < effective.size(); ++i) {
     const auto& slot = host->estimators()[i];
     const auto status = slot.instance->status();

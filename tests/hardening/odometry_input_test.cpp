@@ -85,15 +85,43 @@ TEST(BadOdometry, ZeroDistanceStepsAreOrdinarySteps) {
   EXPECT_EQ(path[101].y_m, path[140].y_m);
 }
 
+TEST(BadTiming, InputsSwappedWithinTheReorderWindowAreFedInTimeOrder) {
+  // Steps 120 and 121 swapped, and ranges 30 and 31: the later of each pair arrives first, 0.2 s
+  // and 0.5 s ahead of the other, inside reorder_window_s (1 s). The host feeds them in time order:
+  // nothing is skipped, and every estimator publishes what it publishes from the clean log.
+  Events events = cleanEvents();
+  const RunResult clean = runEveryPlugin("swapped_clean", events);
+  const auto steps = indicesOf(events, "ODOMETRY");
+  std::swap(events[steps[120]], events[steps[121]]);
+  const auto ranges = indicesOf(events, "RANGE");
+  std::swap(events[ranges[30]], events[ranges[31]]);
+  const RunResult result = runEveryPlugin("swapped", events);
+  expectSafeRun(result, countByChannel(events));
+  EXPECT_EQ(result.output.find("went backwards"), std::string::npos) << result.output;
+  EXPECT_EQ(result.output.find("fed late"), std::string::npos) << result.output;
+  for (const auto& plugin : pluginsInBuild()) {
+    SCOPED_TRACE("plugin " + plugin);
+    EXPECT_EQ(result.status.at(plugin).value("input skipped: out of order"), 0);
+    const Path& a = result.poses.at(plugin);
+    const Path& b = clean.poses.at(plugin);
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t k = 0; k < a.size(); ++k) {
+      ASSERT_EQ(a[k].x_m, b[k].x_m) << k;  // bit-identical
+      ASSERT_EQ(a[k].y_m, b[k].y_m) << k;
+    }
+  }
+  EXPECT_EQ(result.status.at("deadreckoning").odometry_accepted, 300);
+}
+
 TEST(BadTiming, TimeGoingBackwardsIsSkippedAndCounted) {
-  // Steps 120 and 121 swapped, and ranges 30 and 31: the later of each pair arrives first,
-  // so the earlier one goes back in time on its channel and is skipped.
+  // The same swaps fed in arrival order (reorder_window_s = 0): the earlier of each pair goes
+  // back in time on its channel and is skipped.
   Events events = cleanEvents();
   const auto steps = indicesOf(events, "ODOMETRY");
   std::swap(events[steps[120]], events[steps[121]]);
   const auto ranges = indicesOf(events, "RANGE");
   std::swap(events[ranges[30]], events[ranges[31]]);
-  const RunResult result = runEveryPlugin("time_backwards", events);
+  const RunResult result = runEveryPlugin("time_backwards", events, "", "reorder_window_s = 0\n");
   expectSafeRun(result, countByChannel(events));
   EXPECT_NE(result.output.find("roam-run: warning: ODOMETRY: utime went backwards"), std::string::npos)
       << result.output;
@@ -103,6 +131,23 @@ TEST(BadTiming, TimeGoingBackwardsIsSkippedAndCounted) {
     EXPECT_EQ(result.status.at(plugin).value("input skipped: out of order"), 2);
   }
   EXPECT_EQ(result.status.at("deadreckoning").odometry_accepted, 299);
+}
+
+TEST(BadTiming, AStepBehindItsChannelBeyondTheReorderWindowIsSkipped) {
+  // Step 120 logged after step 130 (2 s later, beyond the 1 s window): by the time it arrives
+  // steps up to 125 have been fed, so it goes back on its channel and is skipped and counted.
+  Events events = cleanEvents();
+  const auto steps = indicesOf(events, "ODOMETRY");
+  const Event late = events[steps[120]];
+  events.erase(events.begin() + static_cast<long>(steps[120]));
+  events.insert(events.begin() + static_cast<long>(steps[130]), late);  // steps[130] moved down by one
+  const RunResult result = runEveryPlugin("step_beyond_window", events);
+  expectSafeRun(result, countByChannel(events));
+  EXPECT_NE(result.output.find("roam-run: warning: ODOMETRY: utime went backwards"), std::string::npos)
+      << result.output;
+  EXPECT_NE(result.output.find(", 1 out of order (skipped)"), std::string::npos) << result.output;
+  EXPECT_EQ(result.status.at("deadreckoning").odometry_accepted, 299);
+  EXPECT_EQ(result.status.at("deadreckoning").value("input skipped: out of order"), 1);
 }
 
 TEST(BadTiming, DuplicateEventsAreSkippedAndCounted) {

@@ -1,0 +1,183 @@
+// roam-run's reorder window (reorder_window_s): odometry and ranges are fed in utime order even
+// where the log holds them in arrival order, a range after odometry stamped later than it (a
+// radio's or a modem's latency).
+#include <gtest/gtest.h>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <algorithm>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "log_compare.hpp"
+#include "path_score.hpp"
+#include "result_log.hpp"
+#include "small_world.hpp"
+#include "test_util.hpp"
+
+namespace roam {
+namespace {
+
+using testing_util::run;
+using testing_util::roamRun;
+using testing_util::scratchDir;
+using testing_util::writeFile;
+namespace fs = std::filesystem;
+
+// `in` rewritten with every RANGE event logged `delay_s` later than its stamp: in arrival order
+// behind the odometry of the next delay_s. Returns how many ranges were moved behind odometry
+// stamped later than them.
+int writeWithLateRanges(const fs::path& in, const fs::path& out, double delay_s) {
+  struct Event {
+    int64_t arrival_utime;
+    size_t order;
+    std::string channel;
+    std::string data;
+    int64_t stamp_utime;
+  };
+  std::vector<Event> events;
+  lcm::LogFile reader(in.string(), "r");
+  for (const lcm::LogEvent* e = reader.readNextEvent(); e != nullptr; e = reader.readNextEvent()) {
+    const int64_t delay_us = e->channel == "RANGE" ? static_cast<int64_t>(delay_s * 1e6) : 0;
+    events.push_back({e->timestamp + delay_us, events.size(), e->channel,
+                      std::string(static_cast<const char*>(e->data), static_cast<size_t>(e->datalen)), e->timestamp});
+  }
+  std::sort(events.begin(), events.end(), [](const Event& a, const Event& b) {
+    return std::tie(a.arrival_utime, a.order) < std::tie(b.arrival_utime, b.order);
+  });
+  lcm::LogFile writer(out.string(), "w");
+  int late = 0;
+  int64_t newest_odometry_utime = INT64_MIN;
+  for (const Event& e : events) {
+    if (e.channel == "ODOMETRY") newest_odometry_utime = std::max(newest_odometry_utime, e.stamp_utime);
+    if (e.channel == "RANGE" && e.stamp_utime < newest_odometry_utime) ++late;
+    lcm::LogEvent event{};
+    event.timestamp = e.arrival_utime;
+    event.channel = e.channel;
+    event.datalen = static_cast<int32_t>(e.data.size());
+    event.data = const_cast<char*>(e.data.data());
+    writer.writeEvent(&event);
+  }
+  return late;
+}
+
+// The estimators' outputs of a result log (the input copies, written on arrival, left out).
+std::vector<testing_util::LoggedEvent> outputs(const fs::path& log) {
+  std::vector<testing_util::LoggedEvent> events = testing_util::readEvents(log.string());
+  events.erase(std::remove_if(events.begin(), events.end(),
+                              [](const testing_util::LoggedEvent& e) {
+                                for (const char* prefix : {"POSE_", "MAP_", "TRAJECTORY_", "STATUS_"})
+                                  if (e.channel.rfind(prefix, 0) == 0) return false;
+                                return true;
+                              }),
+               events.end());
+  return events;
+}
+
+struct Replay {
+  testing_util::CommandResult result;
+  fs::path log;
+};
+
+Replay replay(const fs::path& dir, const fs::path& input, const std::string& runtime_keys, const std::string& name) {
+  const std::string estimators = "[estimator.ekf]\nplugin = ekf\n[estimator.em]\nplugin = online_em\nnum_particles = 20\n";
+  const fs::path config = writeFile(dir / (name + ".ini"), "[runtime]\ninput = " + input.string() + "\noutput = " +
+                                                               name + ".lcmlog\n" + runtime_keys + estimators);
+  return {run(roamRun() + " " + config.string() + " --no-progress"), dir / (name + ".lcmlog")};
+}
+
+void expectSameOutputs(const fs::path& a, const fs::path& b) {
+  const auto first = outputs(a), second = outputs(b);
+  ASSERT_GT(first.size(), 600u);  // poses of both estimators, maps, statuses, trajectories
+  ASSERT_EQ(first.size(), second.size());
+  for (size_t k = 0; k < first.size(); ++k) {
+    ASSERT_EQ(first[k].channel, second[k].channel) << k;
+    ASSERT_EQ(first[k].utime, second[k].utime) << k;
+    ASSERT_EQ(first[k].data, second[k].data) << first[k].channel << " " << k;  // bit-identical
+  }
+}
+
+double ekfMeanError_m(const fs::path& log, const sim::SimRun& world) {
+  const ResultLog result = readResultLog(log.string());
+  const EstimatorOutputs* ekf = result.find("ekf");
+  if (ekf == nullptr) return kNaN;
+  return scorePath(ekf->scoredPath(), world.ground_truth, false).full.mean_m;
+}
+
+TEST(Reorder, RangesArrivingWithinTheWindowGiveTheInOrderEstimates) {
+  // The small world (0.2 s steps at 1 m/s, 2 ranges a second) with every range logged 0.5 s after
+  // its stamp: behind two or three odometry steps. With the default window (1 s) the EKF and
+  // online EM publish exactly what they publish from the log in time order, and nothing is said.
+  const fs::path dir = scratchDir("reorder_within");
+  const sim::SimRun world = sim::simulate(testing_util::smallWorld());
+  const fs::path in_order = dir / "in_order.lcmlog", late = dir / "late.lcmlog";
+  writeDatasetLog(in_order.string(), world);
+  ASSERT_EQ(writeWithLateRanges(in_order, late, 0.5), 119);  // of its 120 ranges
+  const Replay reference = replay(dir, in_order, "", "reference");
+  const Replay delayed = replay(dir, late, "", "delayed");
+  ASSERT_EQ(reference.result.status, 0) << reference.result.output;
+  ASSERT_EQ(delayed.result.status, 0) << delayed.result.output;
+  EXPECT_EQ(delayed.result.output.find("reorder_window_s"), std::string::npos) << delayed.result.output;
+  expectSameOutputs(reference.log, delayed.log);
+}
+
+TEST(Reorder, WithoutTheWindowLateRangesAreFedLateCountedAndNamed) {
+  // reorder_window_s = 0: arrival order, as before the window existed. Each late range meets a
+  // later pose, the EKF's path moves (0.07 -> 0.62 m mean), and the run ends with a warning that
+  // counts them, says how late the latest was and names the key.
+  const fs::path dir = scratchDir("reorder_off");
+  const sim::SimRun world = sim::simulate(testing_util::smallWorld());
+  const fs::path in_order = dir / "in_order.lcmlog", late = dir / "late.lcmlog";
+  writeDatasetLog(in_order.string(), world);
+  const int moved = writeWithLateRanges(in_order, late, 0.5);
+  const Replay reference = replay(dir, in_order, "", "reference");
+  const Replay off = replay(dir, late, "reorder_window_s = 0\n", "off");
+  ASSERT_EQ(reference.result.status, 0) << reference.result.output;
+  ASSERT_EQ(off.result.status, 0) << off.result.output;
+  EXPECT_NE(off.result.output.find(", " + std::to_string(moved) + " fed late (beyond reorder_window_s)"),
+            std::string::npos)
+      << off.result.output;
+  // The ranges are 0.5 s late; odometry comes every 0.2 s, so each arrives 0.4 s behind the newest.
+  EXPECT_NE(off.result.output.find("roam-run: warning: " + std::to_string(moved) +
+                                   " odometry and range messages arrived up to 0.400 s (data time) behind the newest "
+                                   "input, beyond reorder_window_s (0 s)"),
+            std::string::npos)
+      << off.result.output;
+  EXPECT_NE(off.result.output.find("look at key reorder_window_s\n"), std::string::npos) << off.result.output;
+  const double reference_m = ekfMeanError_m(reference.log, world), off_m = ekfMeanError_m(off.log, world);
+  std::printf("EKF with ranges 0.5 s late: in time order %.3f m, in arrival order %.3f m\n", reference_m, off_m);
+  EXPECT_GT(off_m, reference_m + 0.01);
+  // And counted in every STATUS: the final one of the EKF says how many were fed late.
+  const ResultLog result = readResultLog(off.log.string());
+  const EstimatorOutputs* ekf = result.find("ekf");
+  ASSERT_NE(ekf, nullptr);
+  double fed_late = -1.0;
+  for (const auto& [key, value] : ekf->diagnostics)
+    if (key == "input fed late: beyond reorder_window_s") fed_late = value;
+  EXPECT_EQ(fed_late, moved);
+}
+
+TEST(Reorder, AnInOrderLogIsFedAsItArrives) {
+  // A log in time order (every log roam writes, Plaza 1, every simulated run) gives the same
+  // outputs with the window as without it, bit for bit.
+  const fs::path dir = scratchDir("reorder_in_order");
+  const fs::path log = testing_util::writeSmallWorldLog(dir);
+  const Replay held = replay(dir, log, "", "held");
+  const Replay direct = replay(dir, log, "reorder_window_s = 0\n", "direct");
+  ASSERT_EQ(held.result.status, 0) << held.result.output;
+  ASSERT_EQ(direct.result.status, 0) << direct.result.output;
+  EXPECT_EQ(direct.result.output.find("fed late"), std::string::npos) << direct.result.output;
+  expectSameOutputs(held.log, direct.log);
+}
+
+TEST(Reorder, ANegativeWindowIsRefusedWithItsKey) {
+  const fs::path dir = scratchDir("reorder_negative");
+  const fs::path log = testing_util::writeSmallWorldLog(dir);
+  const Replay bad = replay(dir, log, "reorder_window_s = -1\n", "bad");
+  EXPECT_EQ(bad.result.status, 2) << bad.result.output;
+  EXPECT_NE(bad.result.output.find("[runtime] reorder_window_s"), std::string::npos) << bad.result.output;
+}
+
+}  // namespace
+}  // namespace roam
