@@ -1,11 +1,16 @@
 // roam-logcheck LOG: reads every event of an LCM log, decodes each roam channel with its
 // message type, and prints one line per channel: name, events, type, undecodable count.
 // Exit status 0 if the log is whole and every roam message decodes, 1 if not, 2 if unreadable.
+// Where odometry or ranges are logged behind an input stamped later than them (a sensor's
+// latency), one more line says how many and how far behind: roam-run's reorder_window_s must
+// cover it.
 //
 // Channel -> type: ODOMETRY odometry_t; RANGE range_t; INITIAL_POSE, GROUND_TRUTH, POSE_* pose_t;
 // BEACONS, MAP_* map_t; TRAJECTORY_* trajectory_t; STATUS_* estimator_status_t; others: not checked.
 #include <sys/stat.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
@@ -27,6 +32,23 @@ template <typename Message>
 bool decodes(const lcm::LogEvent& event) {
   Message message;
   return roam::decodeMessage(event.data, event.datalen, &message) == event.datalen;
+}
+
+// The utime of an ODOMETRY or RANGE event; false for other channels or bytes that do not decode.
+bool inputUtime(const lcm::LogEvent& event, int64_t* utime) {
+  if (event.channel == "ODOMETRY") {
+    roam::odometry_t message;
+    if (roam::decodeMessage(event.data, event.datalen, &message) != event.datalen) return false;
+    *utime = message.utime;
+    return true;
+  }
+  if (event.channel == "RANGE") {
+    roam::range_t message;
+    if (roam::decodeMessage(event.data, event.datalen, &message) != event.datalen) return false;
+    *utime = message.utime;
+    return true;
+  }
+  return false;
 }
 
 // Returns the type name, and whether the event decodes as that type.
@@ -66,7 +88,17 @@ int main(int argc, char** argv) {
   std::map<std::string, Count> channels;
   long events = 0, bad = 0;
   long end = 0;
+  long behind = 0;  // odometry and ranges logged behind an input stamped later
+  int64_t newest_input_utime = INT64_MIN, most_behind_us = 0;
   while (const lcm::LogEvent* event = log.readNextEvent()) {
+    int64_t utime = 0;
+    if (inputUtime(*event, &utime)) {
+      if (utime < newest_input_utime) {
+        ++behind;
+        most_behind_us = std::max(most_behind_us, newest_input_utime - utime);
+      }
+      newest_input_utime = std::max(newest_input_utime, utime);
+    }
     auto [type, ok] = check(*event);
     Count& count = channels[event->channel];
     count.type = type;
@@ -82,6 +114,10 @@ int main(int argc, char** argv) {
     std::printf("%-24s %8ld  %-26s %s\n", channel.c_str(), count.events, count.type.c_str(),
                 count.bad ? (std::to_string(count.bad) + " undecodable").c_str() : "ok");
   }
+  if (behind > 0)
+    std::printf("%ld ODOMETRY and RANGE events logged behind an input stamped later, by up to %.3f s: roam-run feeds "
+                "them in time order if its reorder_window_s (default 1 s) is longer\n",
+                behind, 1e-6 * static_cast<double>(most_behind_us));
   const bool whole = end == static_cast<long>(info.st_size);
   std::printf("%ld events, %ld undecodable, %s\n", events, bad,
               whole ? "log whole" : "log ends inside an event or has corrupt bytes");

@@ -171,6 +171,24 @@ TEST(Reorder, AnInOrderLogIsFedAsItArrives) {
   expectSameOutputs(held.log, direct.log);
 }
 
+TEST(Reorder, LogcheckSaysHowFarBehindTheLatestInputWasLogged) {
+  // roam-logcheck tells a user whether a log needs the window, and how long a one.
+  const fs::path dir = scratchDir("reorder_logcheck");
+  const fs::path in_order = testing_util::writeSmallWorldLog(dir), late = dir / "late.lcmlog";
+  const int moved = writeWithLateRanges(in_order, late, 0.5);
+  const std::string logcheck = std::string(ROAM_BINARY_DIR) + "/bin/roam-logcheck ";
+  const auto checked = run(logcheck + late.string());
+  EXPECT_EQ(checked.status, 0) << checked.output;
+  EXPECT_NE(checked.output.find(std::to_string(moved) +
+                                " ODOMETRY and RANGE events logged behind an input stamped later, by up to 0.400 s: "
+                                "roam-run feeds them in time order if its reorder_window_s (default 1 s) is longer\n"),
+            std::string::npos)
+      << checked.output;
+  const auto clean = run(logcheck + in_order.string());
+  EXPECT_EQ(clean.status, 0) << clean.output;
+  EXPECT_EQ(clean.output.find("behind"), std::string::npos) << clean.output;
+}
+
 TEST(Reorder, ANegativeWindowIsRefusedWithItsKey) {
   const fs::path dir = scratchDir("reorder_negative");
   const fs::path log = testing_util::writeSmallWorldLog(dir);
