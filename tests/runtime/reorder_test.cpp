@@ -98,6 +98,21 @@ void expectSameOutputs(const fs::path& a, const fs::path& b) {
   }
 }
 
+// The small world (0.2 s steps at 1 m/s, 2 ranges a second) in time order, and with every range
+// logged 0.5 s after its stamp: behind two or three odometry steps.
+struct LateWorld {
+  sim::SimRun world;
+  fs::path in_order, late;
+  int moved = 0;  // ranges logged behind later odometry
+};
+
+LateWorld makeLateWorld(const fs::path& dir) {
+  LateWorld w{sim::simulate(testing_util::smallWorld()), dir / "in_order.lcmlog", dir / "late.lcmlog"};
+  writeDatasetLog(w.in_order.string(), w.world);
+  w.moved = writeWithLateRanges(w.in_order, w.late, 0.5);
+  return w;
+}
+
 double ekfMeanError_m(const fs::path& log, const sim::SimRun& world) {
   const ResultLog result = readResultLog(log.string());
   const EstimatorOutputs* ekf = result.find("ekf");
@@ -106,16 +121,13 @@ double ekfMeanError_m(const fs::path& log, const sim::SimRun& world) {
 }
 
 TEST(Reorder, RangesArrivingWithinTheWindowGiveTheInOrderEstimates) {
-  // The small world (0.2 s steps at 1 m/s, 2 ranges a second) with every range logged 0.5 s after
-  // its stamp: behind two or three odometry steps. With the default window (1 s) the EKF and
-  // online EM publish exactly what they publish from the log in time order, and nothing is said.
+  // With the default window (1 s) the EKF and online EM publish from the late world exactly what
+  // they publish from the log in time order, and nothing is said.
   const fs::path dir = scratchDir("reorder_within");
-  const sim::SimRun world = sim::simulate(testing_util::smallWorld());
-  const fs::path in_order = dir / "in_order.lcmlog", late = dir / "late.lcmlog";
-  writeDatasetLog(in_order.string(), world);
-  ASSERT_EQ(writeWithLateRanges(in_order, late, 0.5), 119);  // of its 120 ranges
-  const Replay reference = replay(dir, in_order, "", "reference");
-  const Replay delayed = replay(dir, late, "", "delayed");
+  const LateWorld w = makeLateWorld(dir);
+  ASSERT_EQ(w.moved, 119);  // of its 120 ranges
+  const Replay reference = replay(dir, w.in_order, "", "reference");
+  const Replay delayed = replay(dir, w.late, "", "delayed");
   ASSERT_EQ(reference.result.status, 0) << reference.result.output;
   ASSERT_EQ(delayed.result.status, 0) << delayed.result.output;
   EXPECT_EQ(delayed.result.output.find("reorder_window_s"), std::string::npos) << delayed.result.output;
@@ -127,12 +139,10 @@ TEST(Reorder, WithoutTheWindowLateRangesAreFedLateCountedAndNamed) {
   // later pose, the EKF's path moves (0.07 -> 0.62 m mean), and the run ends with a warning that
   // counts them, says how late the latest was and names the key.
   const fs::path dir = scratchDir("reorder_off");
-  const sim::SimRun world = sim::simulate(testing_util::smallWorld());
-  const fs::path in_order = dir / "in_order.lcmlog", late = dir / "late.lcmlog";
-  writeDatasetLog(in_order.string(), world);
-  const int moved = writeWithLateRanges(in_order, late, 0.5);
-  const Replay reference = replay(dir, in_order, "", "reference");
-  const Replay off = replay(dir, late, "reorder_window_s = 0\n", "off");
+  const LateWorld w = makeLateWorld(dir);
+  const int moved = w.moved;
+  const Replay reference = replay(dir, w.in_order, "", "reference");
+  const Replay off = replay(dir, w.late, "reorder_window_s = 0\n", "off");
   ASSERT_EQ(reference.result.status, 0) << reference.result.output;
   ASSERT_EQ(off.result.status, 0) << off.result.output;
   EXPECT_NE(off.result.output.find(", " + std::to_string(moved) + " fed late (beyond reorder_window_s)"),
@@ -145,7 +155,7 @@ TEST(Reorder, WithoutTheWindowLateRangesAreFedLateCountedAndNamed) {
             std::string::npos)
       << off.result.output;
   EXPECT_NE(off.result.output.find("look at key reorder_window_s\n"), std::string::npos) << off.result.output;
-  const double reference_m = ekfMeanError_m(reference.log, world), off_m = ekfMeanError_m(off.log, world);
+  const double reference_m = ekfMeanError_m(reference.log, w.world), off_m = ekfMeanError_m(off.log, w.world);
   std::printf("EKF with ranges 0.5 s late: in time order %.3f m, in arrival order %.3f m\n", reference_m, off_m);
   EXPECT_GT(off_m, reference_m + 0.01);
   // And counted in every STATUS: the final one of the EKF says how many were fed late.
@@ -173,18 +183,16 @@ TEST(Reorder, AnInOrderLogIsFedAsItArrives) {
 
 TEST(Reorder, LogcheckSaysHowFarBehindTheLatestInputWasLogged) {
   // roam-logcheck tells a user whether a log needs the window, and how long a one.
-  const fs::path dir = scratchDir("reorder_logcheck");
-  const fs::path in_order = testing_util::writeSmallWorldLog(dir), late = dir / "late.lcmlog";
-  const int moved = writeWithLateRanges(in_order, late, 0.5);
+  const LateWorld w = makeLateWorld(scratchDir("reorder_logcheck"));
   const std::string logcheck = std::string(ROAM_BINARY_DIR) + "/bin/roam-logcheck ";
-  const auto checked = run(logcheck + late.string());
+  const auto checked = run(logcheck + w.late.string());
   EXPECT_EQ(checked.status, 0) << checked.output;
-  EXPECT_NE(checked.output.find(std::to_string(moved) +
+  EXPECT_NE(checked.output.find(std::to_string(w.moved) +
                                 " ODOMETRY and RANGE events logged behind an input stamped later, by up to 0.400 s: "
                                 "roam-run feeds them in time order if its reorder_window_s (default 1 s) is longer\n"),
             std::string::npos)
       << checked.output;
-  const auto clean = run(logcheck + in_order.string());
+  const auto clean = run(logcheck + w.in_order.string());
   EXPECT_EQ(clean.status, 0) << clean.output;
   EXPECT_EQ(clean.output.find("behind"), std::string::npos) << clean.output;
 }
