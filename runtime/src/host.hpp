@@ -96,7 +96,7 @@ class Host {
  private:
   // One event to the estimators now (what onEvent did before the reordering).
   void dispatch(const std::string& channel, const void* data, int size);
-  // Feeds the held inputs stamped at or before `utime`, in (utime, arrival) order.
+  // Feeds the held inputs stamped at or before `utime`, in (utime, odometry first, arrival) order.
   void releaseHeld(int64_t utime);
   // Each returns whether the message reached the estimators (false: skipped and counted).
   bool feedOdometry(const void* data, int size);
@@ -126,8 +126,8 @@ class Host {
     bool warned = false;
   };
   std::map<std::string, ChannelHistory> history_;
-  // Odometry and ranges held for reordering, sorted by (utime, odometry first, arrival); the newest utime
-  // received and the newest fed.
+  // Odometry and ranges held for reordering, sorted by (utime, odometry first, arrival); the
+  // newest utime received and the newest fed.
   struct Held {
     int64_t utime = 0;
     uint64_t arrival = 0;

@@ -89,13 +89,14 @@ int main(int argc, char** argv) {
   long events = 0, bad = 0;
   long end = 0;
   long behind = 0;  // odometry and ranges logged behind an input stamped later
-  int64_t newest_input_utime = INT64_MIN, most_behind_us = 0;
+  int64_t newest_input_utime = INT64_MIN;
+  double most_behind_s = 0.0;  // in double: a damaged utime near the ends of int64 cannot overflow
   while (const lcm::LogEvent* event = log.readNextEvent()) {
     int64_t utime = 0;
     if (inputUtime(*event, &utime)) {
       if (utime < newest_input_utime) {
         ++behind;
-        most_behind_us = std::max(most_behind_us, newest_input_utime - utime);
+        most_behind_s = std::max(most_behind_s, 1e-6 * (static_cast<double>(newest_input_utime) - static_cast<double>(utime)));
       }
       newest_input_utime = std::max(newest_input_utime, utime);
     }
@@ -117,7 +118,7 @@ int main(int argc, char** argv) {
   if (behind > 0)
     std::printf("%ld ODOMETRY and RANGE events logged behind an input stamped later, by up to %.3f s: roam-run feeds "
                 "them in time order if its reorder_window_s (default 1 s) is longer\n",
-                behind, 1e-6 * static_cast<double>(most_behind_us));
+                behind, most_behind_s);
   const bool whole = end == static_cast<long>(info.st_size);
   std::printf("%ld events, %ld undecodable, %s\n", events, bad,
               whole ? "log whole" : "log ends inside an event or has corrupt bytes");
