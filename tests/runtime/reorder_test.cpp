@@ -3,11 +3,8 @@
 // radio's or a modem's latency).
 #include <gtest/gtest.h>
 
-#include <lcm/lcm-cpp.hpp>
-
 #include <algorithm>
 #include <string>
-#include <tuple>
 #include <vector>
 
 #include "log_compare.hpp"
@@ -24,43 +21,6 @@ using testing_util::roamRun;
 using testing_util::scratchDir;
 using testing_util::writeFile;
 namespace fs = std::filesystem;
-
-// `in` rewritten with every RANGE event logged `delay_s` later than its stamp: in arrival order
-// behind the odometry of the next delay_s. Returns how many ranges were moved behind odometry
-// stamped later than them.
-int writeWithLateRanges(const fs::path& in, const fs::path& out, double delay_s) {
-  struct Event {
-    int64_t arrival_utime;
-    size_t order;
-    std::string channel;
-    std::string data;
-    int64_t stamp_utime;
-  };
-  std::vector<Event> events;
-  lcm::LogFile reader(in.string(), "r");
-  for (const lcm::LogEvent* e = reader.readNextEvent(); e != nullptr; e = reader.readNextEvent()) {
-    const int64_t delay_us = e->channel == "RANGE" ? static_cast<int64_t>(delay_s * 1e6) : 0;
-    events.push_back({e->timestamp + delay_us, events.size(), e->channel,
-                      std::string(static_cast<const char*>(e->data), static_cast<size_t>(e->datalen)), e->timestamp});
-  }
-  std::sort(events.begin(), events.end(), [](const Event& a, const Event& b) {
-    return std::tie(a.arrival_utime, a.order) < std::tie(b.arrival_utime, b.order);
-  });
-  lcm::LogFile writer(out.string(), "w");
-  int late = 0;
-  int64_t newest_odometry_utime = INT64_MIN;
-  for (const Event& e : events) {
-    if (e.channel == "ODOMETRY") newest_odometry_utime = std::max(newest_odometry_utime, e.stamp_utime);
-    if (e.channel == "RANGE" && e.stamp_utime < newest_odometry_utime) ++late;
-    lcm::LogEvent event{};
-    event.timestamp = e.arrival_utime;
-    event.channel = e.channel;
-    event.datalen = static_cast<int32_t>(e.data.size());
-    event.data = const_cast<char*>(e.data.data());
-    writer.writeEvent(&event);
-  }
-  return late;
-}
 
 // The estimators' outputs of a result log (the input copies, written on arrival, left out).
 std::vector<testing_util::LoggedEvent> outputs(const fs::path& log) {
@@ -109,7 +69,10 @@ struct LateWorld {
 LateWorld makeLateWorld(const fs::path& dir) {
   LateWorld w{sim::simulate(testing_util::smallWorld()), dir / "in_order.lcmlog", dir / "late.lcmlog"};
   writeDatasetLog(w.in_order.string(), w.world);
-  w.moved = writeWithLateRanges(w.in_order, w.late, 0.5);
+  writeDatasetLog(w.late.string(), w.world, 500000);  // roam-sim --range-latency-s 0.5
+  // Every range but the last, which is stamped at the last step: logged after it, but not behind
+  // a later stamp.
+  w.moved = static_cast<int>(w.world.ranges.size()) - 1;
   return w;
 }
 

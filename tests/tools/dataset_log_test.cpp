@@ -84,6 +84,46 @@ TEST(DatasetLog, EventOrder) {
   EXPECT_EQ(decode<roam::range_t>(events[7]).beacon_id, 8);
 }
 
+TEST(DatasetLog, RangesLoggedWithALatencyKeepTheirStamps) {
+  // range_latency_us (roam-sim --range-latency-s): each RANGE merged and stamped as an event that
+  // much after its message's utime, behind odometry stamped later; the message keeps its utime.
+  roam::Dataset d;
+  d.start.utime = 0;
+  d.odometry.resize(3);
+  for (int k = 0; k < 3; ++k) d.odometry[k].utime = 200 * (k + 1);  // 200, 400, 600
+  d.ranges.resize(2);
+  d.ranges[0].utime = 200;
+  d.ranges[1].utime = 300;
+  roam_test::ScratchDir dir;
+  roam::writeDatasetLog(dir.file("late.lcmlog"), d, 250);
+  const std::vector<Event> events = readEvents(dir.file("late.lcmlog"));
+  const std::vector<std::string> channels{"INITIAL_POSE", "BEACONS", "ODOMETRY", "ODOMETRY", "RANGE", "RANGE", "ODOMETRY"};
+  const std::vector<int64_t> times{0, 0, 200, 400, 450, 550, 600};
+  ASSERT_EQ(events.size(), channels.size());
+  for (size_t i = 0; i < events.size(); ++i) {
+    EXPECT_EQ(events[i].channel, channels[i]) << i;
+    EXPECT_EQ(events[i].timestamp, times[i]) << i;
+  }
+  EXPECT_EQ(decode<roam::range_t>(events[4]).utime, 200);
+  EXPECT_EQ(decode<roam::range_t>(events[5]).utime, 300);
+  // From the command line; a negative latency is refused with the option's name.
+  const std::string sim = roam_test::tool("roam-sim");
+  const roam_test::ToolResult ok =
+      roam_test::runTool(sim + " -o " + dir.file("sim.lcmlog") + " --steps 50 --schedule round_robin --range-latency-s 0.5");
+  EXPECT_EQ(ok.status, 0) << ok.out;
+  const std::vector<Event> simulated = readEvents(dir.file("sim.lcmlog"));
+  int ranges = 0;
+  for (const Event& e : simulated)
+    if (e.channel == "RANGE") {
+      ++ranges;
+      EXPECT_EQ(e.timestamp, decode<roam::range_t>(e).utime + 500000);
+    }
+  EXPECT_EQ(ranges, 20);  // 10 s at 2 Hz
+  const roam_test::ToolResult bad = roam_test::runTool(sim + " -o " + dir.file("x.lcmlog") + " --range-latency-s -1");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.out.find("--range-latency-s: expected in [0, 3600]"), std::string::npos) << bad.out;
+}
+
 TEST(DatasetLog, UnwritablePathIsNamed) {
   try {
     roam::writeDatasetLog("/nonexistent-folder/x.lcmlog", roam::Dataset{});

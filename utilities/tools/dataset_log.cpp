@@ -53,7 +53,7 @@ struct Item {
 
 }  // namespace
 
-LogWriteSummary writeDatasetLog(const std::string& path, const Dataset& dataset) {
+LogWriteSummary writeDatasetLog(const std::string& path, const Dataset& dataset, int64_t range_latency_us) {
   std::vector<Item> items;
   items.reserve(dataset.ground_truth.size() + dataset.odometry.size() + dataset.ranges.size());
   for (size_t i = 0; i < dataset.ground_truth.size(); ++i)
@@ -61,7 +61,7 @@ LogWriteSummary writeDatasetLog(const std::string& path, const Dataset& dataset)
   for (size_t i = 0; i < dataset.odometry.size(); ++i)
     items.push_back({dataset.odometry[i].utime, Source::kOdometry, i});
   for (size_t i = 0; i < dataset.ranges.size(); ++i)
-    items.push_back({dataset.ranges[i].utime, Source::kRange, i});
+    items.push_back({dataset.ranges[i].utime + range_latency_us, Source::kRange, i});
   std::stable_sort(items.begin(), items.end(), [](const Item& a, const Item& b) {
     if (a.utime != b.utime) return a.utime < b.utime;
     return static_cast<int>(a.source) < static_cast<int>(b.source);
@@ -83,7 +83,7 @@ LogWriteSummary writeDatasetLog(const std::string& path, const Dataset& dataset)
         ++summary.odometry;
         break;
       case Source::kRange:
-        log.write(channels::RANGE, item.utime, toMessage(shim::toC(dataset.ranges[item.index])));
+        log.write(channels::RANGE, item.utime, toMessage(shim::toC(dataset.ranges[item.index])));  // arrival
         ++summary.ranges;
         break;
     }

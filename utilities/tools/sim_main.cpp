@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
   roam::sim::SimConfig c;
   std::string output, path_kind = "lawn_mower", schedule = "all", beacons_csv;
   std::vector<std::string> range_gaps;
-  double start_x = 0, start_y = 0, start_heading = 0;
+  double start_x = 0, start_y = 0, start_heading = 0, range_latency_s = 0;
   long long start_utime = c.start_utime;
   po::options_description visible("roam-sim -o LOG [options]: a seeded synthetic range-only SLAM run");
   // clang-format off
@@ -83,6 +83,8 @@ int main(int argc, char** argv) {
       ("range-sigma", po::value(&c.range_sigma_m)->default_value(c.range_sigma_m), "range noise std (m)")
       ("range-scale", po::value(&c.range_scale)->default_value(c.range_scale), "range = scale * true + offset")
       ("range-offset", po::value(&c.range_offset_m)->default_value(c.range_offset_m), "range offset (m)")
+      ("range-latency-s", po::value(&range_latency_s)->default_value(range_latency_s),
+       "each range logged this long after its stamp (a late sensor; roam-run's reorder_window_s)")
       ("range-sigma-reported", po::value(&c.range_sigma_reported_m)->default_value(c.range_sigma_reported_m),
        "sigma written into each range (0: unknown)")
       ("mixture-weight", po::value(&c.mixture_weight1)->default_value(c.mixture_weight1),
@@ -133,6 +135,7 @@ int main(int argc, char** argv) {
     require(c.range_sigma_m >= 0 && c.range_sigma1_m >= 0 && c.bearing_sigma_rad >= 0,
             "--range-sigma, --mixture-sigma, --bearing-sigma: expected >= 0");
     require(c.range_rate_hz > 0, "--range-rate: expected > 0");
+    require(range_latency_s >= 0 && range_latency_s <= 3600, "--range-latency-s: expected in [0, 3600]");
     require(c.beacon_offset_min_m >= 0 && c.beacon_offset_min_m <= c.beacon_offset_max_m,
             "--beacon-offset-min: expected 0 <= --beacon-offset-min <= --beacon-offset-max");
     require(c.beacon_survey_sigma_m >= 0 && std::isfinite(c.beacon_survey_sigma_m),
@@ -160,7 +163,8 @@ int main(int argc, char** argv) {
     c.start.heading_rad = start_heading;
 
     const roam::Dataset run = roam::sim::simulate(c);
-    const roam::LogWriteSummary s = roam::writeDatasetLog(output, run);
+    const roam::LogWriteSummary s =
+        roam::writeDatasetLog(output, run, static_cast<int64_t>(std::llround(range_latency_s * 1e6)));
     std::printf("roam-sim: %s: %ld events (%ld odometry, %ld ranges, %ld ground truth, %ld beacons), seed %llu\n",
                 output.c_str(), s.events, s.odometry, s.ranges, s.ground_truth, s.beacons,
                 static_cast<unsigned long long>(c.seed));
