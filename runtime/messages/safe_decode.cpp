@@ -113,4 +113,17 @@ int decodeMessage(const void* data, int size, roam::estimator_status_t* message)
   return decodeGuarded(data, size, message);
 }
 
+bool decodeInputUtime(bool odometry, const void* data, int size, int64_t* utime) {
+  if (odometry) {
+    roam::odometry_t message;
+    if (decodeMessage(data, size, &message) < 0) return false;
+    *utime = message.utime;
+  } else {
+    roam::range_t message;
+    if (decodeMessage(data, size, &message) < 0) return false;
+    *utime = message.utime;
+  }
+  return true;
+}
+
 }  // namespace roam

@@ -75,17 +75,7 @@ void Host::onEvent(const std::string& channel, int64_t event_utime, const void* 
     return;
   }
   int64_t utime = 0;
-  bool decoded = false;
-  if (odometry) {
-    roam::odometry_t message;
-    decoded = decode(data, size, &message);
-    utime = message.utime;
-  } else {
-    roam::range_t message;
-    decoded = decode(data, size, &message);
-    utime = message.utime;
-  }
-  if (!decoded) {  // counted as undecodable when fed
+  if (!decodeInputUtime(odometry, data, size, &utime)) {  // counted as undecodable when fed
     dispatch(channel, data, size);
     return;
   }

@@ -34,23 +34,6 @@ bool decodes(const lcm::LogEvent& event) {
   return roam::decodeMessage(event.data, event.datalen, &message) == event.datalen;
 }
 
-// The utime of an ODOMETRY or RANGE event; false for other channels or bytes that do not decode.
-bool inputUtime(const lcm::LogEvent& event, int64_t* utime) {
-  if (event.channel == "ODOMETRY") {
-    roam::odometry_t message;
-    if (roam::decodeMessage(event.data, event.datalen, &message) != event.datalen) return false;
-    *utime = message.utime;
-    return true;
-  }
-  if (event.channel == "RANGE") {
-    roam::range_t message;
-    if (roam::decodeMessage(event.data, event.datalen, &message) != event.datalen) return false;
-    *utime = message.utime;
-    return true;
-  }
-  return false;
-}
-
 // Returns the type name, and whether the event decodes as that type.
 std::pair<std::string, bool> check(const lcm::LogEvent& event) {
   const std::string& c = event.channel;
@@ -93,7 +76,8 @@ int main(int argc, char** argv) {
   double most_behind_s = 0.0;  // in double: a damaged utime near the ends of int64 cannot overflow
   while (const lcm::LogEvent* event = log.readNextEvent()) {
     int64_t utime = 0;
-    if (inputUtime(*event, &utime)) {
+    const bool input = event->channel == "ODOMETRY" || event->channel == "RANGE";
+    if (input && roam::decodeInputUtime(event->channel == "ODOMETRY", event->data, event->datalen, &utime)) {
       if (utime < newest_input_utime) {
         ++behind;
         most_behind_s = std::max(most_behind_s, 1e-6 * (static_cast<double>(newest_input_utime) - static_cast<double>(utime)));

@@ -8,6 +8,8 @@
 // against the bytes that are there, then decodes, and never throws.
 #pragma once
 
+#include <cstdint>
+
 #include "roam/estimator_status_t.hpp"
 #include "roam/map_t.hpp"
 #include "roam/odometry_t.hpp"
@@ -26,5 +28,9 @@ int decodeMessage(const void* data, int size, roam::pose_t* message);
 int decodeMessage(const void* data, int size, roam::map_t* message);
 int decodeMessage(const void* data, int size, roam::trajectory_t* message);
 int decodeMessage(const void* data, int size, roam::estimator_status_t* message);
+
+// The utime of an odometry_t (odometry = true) or a range_t; false if the bytes are not one.
+// What the host reorders inputs by, and what roam-logcheck measures their lateness with.
+bool decodeInputUtime(bool odometry, const void* data, int size, int64_t* utime);
 
 }  // namespace roam
