@@ -10,10 +10,7 @@
 #include <ctime>
 
 #include "initial_guess.hpp"
-#include "roam/estimation/bias_observability.hpp"
 #include "roam/estimation/multilateration.hpp"
-#include "roam/estimation/range_model.hpp"
-#include "roam/estimation/rotation_about_start.hpp"
 #include "spectral_seed.hpp"
 
 namespace roam {
@@ -24,12 +21,6 @@ namespace {
 constexpr double kMinSeedSpeed_mps = 0.1;
 // Odometry noise-scale search: up to 32 times the configured noise (2 % per metre -> 64 %).
 constexpr double kMaxOdometryNoiseScale = 32.0;
-// Heading-rate bias scan: stop refining once half a step of bias leaves at most this heading
-// error at the end of the run (a local solve, which estimates the bias itself, starts in its
-// basin from there: 0.25 rad is ~1 m sideways per 4 m of travel at the far end, halved on
-// average over the path), and never beyond 3 levels (the old fixed depth).
-constexpr double kScanHeadingTolerance_rad = 0.25;
-constexpr int kMaxScanLevels = 3;
 // Variance component estimation of the odometry noise: at most this many re-solves (the scales
 // settle in 2-4 on the runs here; each round is a warm-started solve).
 constexpr int kMaxNoiseRounds = 6;
@@ -354,152 +345,6 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
   return out;
 }
 
-void SpectralBatchSlam::decideHeadingAsStated(bool final) {
-  // The shared rule on the first ranges' fix times (roam/estimation/bias_observability.hpp),
-  // re-read from the ranges kept: from the start pose at sparse rates the odometry's heading is
-  // taken as stated and the bias held (sparse_heading_as_stated in batch_config.hpp).
-  heading_as_stated_ = false;
-  if (!config_.sparse_heading_as_stated || config_.anchor != SpectralBatchConfig::Anchor::kStartPose) return;
-  // Only a log that states its odometry noise, every step of it: without a statement the heading
-  // is the wheel model's, and its rotation gauge the window's.
-  if (odometry_.empty() ||
-      !std::all_of(odometry_.begin(), odometry_.end(), [](const Odometry& o) { return o.hasCovariance(); }))
-    return;
-  estimation::BiasObservability rule(config_.heading_rate_bias_sigma_rad_s, config_.heading_rate_bias_max_drift_rad);
-  for (const Range& range : ranges_)
-    if (rule.addRange(range.utime) != estimation::BiasObservability::Decision::kUndecided) break;
-  heading_as_stated_ = rule.decision() == estimation::BiasObservability::Decision::kHold;
-  setDiagnostic("heading_as_stated", heading_as_stated_ ? 1.0 : 0.0);
-  if (heading_as_stated_ && final)
-    note("took each odometry step's stated heading noise and " + rule.heldNote("heading_rate_bias_max_drift_rad"));
-}
-
-void SpectralBatchSlam::alignRotationToOdometry(spectral_batch::State* state) {
-  // Rotation about pose 0 leaves every residual unchanged (no beacon is fixed): the gauge. It is
-  // set as the spectral core sets it: the rotation that best aligns (least squares) the solved
-  // positions over the first gauge_align_m of travel to the calibrated dead reckoning from the
-  // start pose. Calibrated: with the gyro bias removed, the first metres of odometry are better
-  // than one start heading, and far better than a spectral seed fitted to biased odometry.
-  const std::vector<std::array<double, 3>>& poses = state->poses;
-  const estimation::OdometryCalibration calibration{state->odometry_calibration[0], state->odometry_calibration[1]};
-  const std::vector<std::array<double, 3>> dr = spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, calibration);
-  std::vector<std::array<double, 2>> solved_m, reference_m;
-  std::vector<double> step_m;
-  for (size_t k = 0; k < poses.size(); ++k) {
-    solved_m.push_back({poses[k][0], poses[k][1]});
-    reference_m.push_back({dr[k][0], dr[k][1]});
-    if (k > 0) step_m.push_back(std::hypot(odometry_[k - 1].forward_m, odometry_[k - 1].lateral_m));
-  }
-  const estimation::StartRotation fit =
-      estimation::fitRotationAboutStart(solved_m, reference_m, step_m, config_.gauge_align_m);
-  if (fit.travelled_m < 0.5 * config_.gauge_align_m || !fit.defined) return;
-  rotateAboutStart(state, fit.angle_rad);
-}
-
-void SpectralBatchSlam::rotateAboutStart(spectral_batch::State* state, double angle_rad) {
-  std::vector<std::array<double, 3>>& poses = state->poses;
-  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
-  const double ox = poses[0][0], oy = poses[0][1];
-  auto rotate = [&](double* x, double* y) {
-    const double rx = *x - ox, ry = *y - oy;
-    *x = ox + c * rx - s * ry;
-    *y = oy + s * rx + c * ry;
-  };
-  for (auto& pose : poses) {
-    rotate(&pose[0], &pose[1]);
-    pose[2] += angle_rad;
-  }
-  for (auto& beacon : state->beacons) rotate(&beacon[0], &beacon[1]);
-  setDiagnostic("gauge_rotation_rad", angle_rad);
-}
-
-double SpectralBatchSlam::scanHeadingRateBias(const std::vector<Tie>& tied) const {
-  // Robust range cost of dead reckoning with bias b, beacons surveyed (anchor = beacons) or
-  // robustly multilaterated from that path; Cauchy at the loss's scale over the range sigma.
-  const double c = estimation::kCauchy95;
-  auto score = [&](double bias_rad_s) {
-    const std::vector<std::array<double, 3>> poses =
-        spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
-    std::map<int, std::vector<std::array<double, 2>>> positions;
-    std::map<int, std::vector<double>> ranges;
-    std::map<int, double> sigma;
-    for (const Tie& t : tied) {
-      const auto& a = poses[t.pose];
-      std::array<double, 2> p{a[0], a[1]};
-      if (t.alpha != 0.0) {
-        const auto& b = poses[t.pose + 1];
-        p = {a[0] + t.alpha * (b[0] - a[0]), a[1] + t.alpha * (b[1] - a[1])};
-      }
-      positions[t.range->beacon_id].push_back(p);
-      ranges[t.range->beacon_id].push_back(t.range->range_m);
-      sigma[t.range->beacon_id] = rangeSigma(*t.range);
-    }
-    double cost = 0.0;
-    for (const auto& [id, ps] : positions) {
-      const Beacon* surveyed = nullptr;
-      if (config_.anchor == SpectralBatchConfig::Anchor::kBeacons)
-        for (const Beacon& b : surveyed_)
-          if (b.id == id) surveyed = &b;
-      if (surveyed) {
-        for (size_t i = 0; i < ps.size(); ++i) {
-          const double r = (std::hypot(surveyed->x_m - ps[i][0], surveyed->y_m - ps[i][1]) - ranges[id][i]) /
-                           (sigma[id] * c);
-          cost += 0.5 * c * c * std::log1p(r * r);
-        }
-      } else {
-        estimation::RobustMultilateration robust;
-        if (estimation::multilaterateRobust(ps, ranges[id], sigma[id], &robust)) cost += robust.cost;
-        else cost += 0.5 * c * c * std::log1p(1e6) * static_cast<double>(ps.size());  // unobservable: worst
-      }
-    }
-    return cost;
-  };
-  // Coarse to fine over +-3 prior sigmas: 31 points, then refinements at a tenth of the step
-  // within +-10 fine steps of the best, until half a step leaves at most kScanHeadingTolerance_rad
-  // of heading error at the end of the run. The batch solve estimates the bias itself; the scan
-  // only has to start it in its basin. A refinement walks downhill from the best point (to the
-  // neighbour that lowers the cost, then on while it keeps lowering it): the grid's minimum where
-  // the cost is unimodal over the +-10 fine steps, in ~3-6 scores instead of 20 (each score is a
-  // dead reckoning and a robust multilateration of every beacon: most of the scan's time).
-  const double duration_s = 1e-6 * static_cast<double>(pose_utime_.back() - pose_utime_.front());
-  const double span = 3.0 * config_.heading_rate_bias_sigma_rad_s;
-  double best = 0.0, best_cost = score(0.0);
-  double step = span / 15.0;
-  for (int i = -15; i <= 15; ++i) {
-    const double b = step * i;
-    if (b == 0.0) continue;
-    const double cost = score(b);
-    if (cost < best_cost) {
-      best_cost = cost;
-      best = b;
-    }
-  }
-  for (int level = 1; level < kMaxScanLevels; ++level) {
-    if (0.5 * step * duration_s <= kScanHeadingTolerance_rad) break;
-    step /= 10.0;
-    const double centre = best;
-    const double cost_up = score(centre + step), cost_down = score(centre - step);
-    int direction = 0;
-    if (cost_up < best_cost && cost_up <= cost_down) {
-      direction = 1;
-      best_cost = cost_up;
-      best = centre + step;
-    } else if (cost_down < best_cost) {
-      direction = -1;
-      best_cost = cost_down;
-      best = centre - step;
-    }
-    for (int i = 2; direction != 0 && i <= 10; ++i) {
-      const double b = centre + step * direction * i;
-      const double cost = score(b);
-      if (!(cost < best_cost)) break;
-      best_cost = cost;
-      best = b;
-    }
-  }
-  return best;
-}
-
 void SpectralBatchSlam::refineOdometryNoise(Candidate* candidate) {
   spectral_batch::Problem& problem = candidate->problem;
   spectral_batch::State& state = candidate->state;
@@ -548,23 +393,6 @@ void SpectralBatchSlam::refineOdometryNoise(Candidate* candidate) {
   if (summary.usable) candidate->summary = summary;
   setDiagnostic("odometry_translation_noise_scale", problem.odometry_sigma_factor);
   setDiagnostic("odometry_heading_noise_scale", problem.odometry_sigma_factor * problem.odometry_heading_sigma_factor);
-}
-
-void SpectralBatchSlam::pinStartHeading(Candidate* candidate) {
-  spectral_batch::Problem& problem = candidate->problem;
-  spectral_batch::State& state = candidate->state;
-  if (state.poses.empty()) return;
-  // Rotation about pose 0 changes no residual (no beacon fixed): holding the start heading only
-  // picks the gauge, so the cost is the same and one warm solve settles it.
-  if (problem.fix_first_heading) return;
-  rotateAboutStart(&state, wrapAngle(start_pose_[2] - state.poses[0][2]));
-  problem.fix_first_heading = true;
-  spectral_batch::State trial_state = state;
-  spectral_batch::Summary trial = spectral_batch::solve(config_, problem, &trial_state);
-  if (!trial.usable) return;
-  trial.iterations += candidate->summary.iterations;
-  state = std::move(trial_state);
-  candidate->summary = trial;
 }
 
 double SpectralBatchSlam::costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const {
