@@ -14,6 +14,7 @@
 //      displacements by linear least squares, frame kept (odometry_smoother.hpp).
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -24,6 +25,7 @@
 #include "range_interpolation.hpp"
 #include "roam/types.hpp"
 #include "spectral_config.hpp"
+#include "start_gauge.hpp"
 
 namespace roam::spectral {
 
@@ -89,6 +91,14 @@ UpgradedStates upgradeStates(const Eigen::MatrixXd& Yhat, const std::vector<int>
 // Step 4 and headings: one pose per pose of the path.
 Path assembleTrajectory(const OdometryPath& path, const std::vector<int>& poses,
                         const UpgradedStates& states, double heading_window_s);
+
+// Rank 4: heading offset of each solved pose from a rotation fit of the learned path onto dead
+// reckoning over +-half_window_us (centred point sets; closed form in 2-D). O(T) with prefix sums.
+Eigen::VectorXd headingOffsetsFromLocalFit(const OdometryPath& path, const std::vector<int>& poses,
+                                           const Eigen::Matrix2Xd& xy_m, int64_t half_window_us);
+
+// The configured odometry heading noise (the shared wheel model's keys) for the start gauge.
+GaugeNoise gaugeNoise(const SpectralConfig& config);
 
 // The self-check's median |range - s_n |p(t) - m| - o_n| over the ranges within the trajectory
 // (a prefix of problem.path in online mode); m surveyed (anchor = beacons) or learned.
