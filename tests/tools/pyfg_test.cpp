@@ -159,7 +159,7 @@ TEST(Pyfg, WhatIsNotSupportedIsRefusedNamingTheLine) {
   };
   const Case cases[] = {
       {head + edge + "VERTEX_SE3:QUAT 0 A2 0 0 0 0 0 0 1\n", ":5: VERTEX_SE3:QUAT: 3-D data is not supported (roam is 2-D)"},
-      {head + edge + "VERTEX_SE2 2.0 B0 0 0 0\n", ":5: several robots ('A' and 'B') are not supported: roam runs one robot per log"},
+      {head + edge + "VERTEX_SE2 2.0 B0 0 0 0\n", ":5: several robots ('A' and 'B'): roam runs one robot per log; choose one with --robot A (the other robots' lines are then set aside)"},
       {head + edge + "EDGE_RANGE 0 A0 A1 3.0 0.01\n", ":5: EDGE_RANGE A0 A1: ranges between poses (inter-robot ranges) are not supported"},
       {head + edge + "EDGE_SE2 0 A1 A0 -1 0 0 0.01 0 0 0.01 0 x\n", ":5: EDGE_SE2: covariance: expected a number, got 'x'"},
       {head + edge + "EDGE_SE2 0 A1 A9 -1 0 0 0.01 0 0 0.01 0 0.0001\n", ":5: EDGE_SE2: to 'A9' has no VERTEX_SE2"},
@@ -225,6 +225,79 @@ TEST(Pyfg, WhatPyFactorGraphWritesBesideOdometryAndRangesIsSetAsideWithANote) {
   EXPECT_EQ(result.status, 0) << result.out;
   EXPECT_NE(result.out.find("(2 odometry, 2 ranges, 3 ground truth, 1 beacons)"), std::string::npos) << result.out;
   EXPECT_NE(result.out.find("roam-import: note: " + full.notes[1] + "\n"), std::string::npos) << result.out;
+}
+
+TEST(Pyfg, OneRobotOfSeveralIsReadWithTheOthersSetAside) {
+  // A multi-robot file (PyFactorGraph writes robots A, B, ...; inter-robot ranges between their
+  // poses): refused without a robot chosen, naming the option; with one chosen, that robot's
+  // run is read exactly as from a file of its own, and the rest is set aside with a note per kind.
+  roam_test::ScratchDir dir;
+  const std::string robot_b =
+      "VERTEX_SE2 0.0 B0 0 0 0\nVERTEX_SE2 1.0 B1 1 0 0.1\nVERTEX_SE2 2.0 B2 2 0.1 0.2\n"
+      "EDGE_SE2 1.0 B0 B1 1 0 0.1 0.01 0 0 0.01 0 0.0001\nEDGE_SE2 2.0 B1 B2 1 0.05 0.1 0.01 0 0 0.01 0 0.0001\n"
+      "EDGE_RANGE 1.0 B1 L0 6.4 0.09\nEDGE_RANGE 2.0 L0 B2 5.8 0.09\n";
+  const std::string beacon = "VERTEX_XY L0 5 5\n";
+  const std::string robot_a = "VERTEX_SE2 0.0 A0 9 9 0\nVERTEX_SE2 1.5 A1 9 10 1.57\nVERTEX_SE2:PRIOR 0.0 A0 9 9 0 0.01 0 0 0.01 0 0.04\n"
+                              "EDGE_SE2 1.5 A0 A1 1 0 1.57 0.01 0 0 0.01 0 0.0001\nEDGE_RANGE 1.5 A1 L0 6.4 0.09\n";
+  const std::string between = "EDGE_RANGE 1.0 A1 B1 8.5 0.09\nEDGE_SE2 2.0 A1 B2 -7 -8 0 0.1 0 0 0.1 0 0.01\n";
+  dir.write("b.pyfg", beacon + robot_b);
+  dir.write("ab.pyfg", beacon + robot_a + robot_b + between);
+  const std::string file = dir.file("ab.pyfg");
+  try {
+    roam::loadPyfgDataset(file);
+    ADD_FAILURE() << "read a file of two robots without one chosen";
+  } catch (const std::runtime_error& error) {
+    EXPECT_EQ(std::string(error.what()), file + ":7: several robots ('A' and 'B'): roam runs one robot per log; choose "
+                                                "one with --robot A (the other robots' lines are then set aside)");
+  }
+  roam::PyfgImportOptions options;
+  options.robot = 'B';
+  const roam::PyfgImport alone = roam::loadPyfgDataset(dir.file("b.pyfg"));
+  const roam::PyfgImport chosen = roam::loadPyfgDataset(file, options);
+  EXPECT_EQ(chosen.robot_letter, 'B');
+  ASSERT_EQ(chosen.dataset.ground_truth.size(), 3u);
+  ASSERT_EQ(chosen.dataset.odometry.size(), alone.dataset.odometry.size());
+  for (size_t k = 0; k < alone.dataset.odometry.size(); ++k) {
+    EXPECT_EQ(chosen.dataset.odometry[k].utime, alone.dataset.odometry[k].utime);
+    EXPECT_EQ(chosen.dataset.odometry[k].forward_m, alone.dataset.odometry[k].forward_m);
+    EXPECT_EQ(chosen.dataset.odometry[k].delta_heading_rad, alone.dataset.odometry[k].delta_heading_rad);
+  }
+  ASSERT_EQ(chosen.dataset.ranges.size(), 2u);
+  EXPECT_EQ(chosen.dataset.ranges[1].range_m, 5.8);
+  EXPECT_EQ(chosen.dataset.ranges[1].utime, 2000000);
+  EXPECT_EQ(chosen.dataset.start.x_m, 0.0);
+  EXPECT_TRUE(alone.notes.empty());
+  ASSERT_EQ(chosen.notes.size(), 2u);
+  EXPECT_EQ(chosen.notes[0], file + ":2: set aside 5 line(s) of other robots (A) (the first here): --robot B reads robot B alone");
+  EXPECT_EQ(chosen.notes[1], file + ":14: set aside 2 measurement(s) between two robots (EDGE_RANGE, EDGE_SE2) (the first "
+                                    "here): roam's estimators take ranges to fixed beacons");
+  // A set-aside line is still checked; a robot the file lacks, or a beacon's letter, is refused.
+  dir.write("bad.pyfg", beacon + robot_b + "VERTEX_SE2 0.0 A0 9 nine 0\n");
+  try {
+    roam::loadPyfgDataset(dir.file("bad.pyfg"), options);
+    ADD_FAILURE() << "a bad number on a set-aside line passed";
+  } catch (const std::runtime_error& error) {
+    EXPECT_EQ(std::string(error.what()), dir.file("bad.pyfg") + ":9: VERTEX_SE2: measurement: expected a number, got 'nine'");
+  }
+  options.robot = 'C';
+  try {
+    roam::loadPyfgDataset(file, options);
+    ADD_FAILURE() << "read robot C from a file without it";
+  } catch (const std::runtime_error& error) {
+    EXPECT_EQ(std::string(error.what()), file + ": no VERTEX_SE2 of robot 'C' (--robot); the file's robots: A, B");
+  }
+  options.robot = 'L';
+  EXPECT_THROW(roam::loadPyfgDataset(file, options), std::runtime_error);
+  const auto result = roam_test::runTool(roam_test::tool("roam-import") + " " + file + " -o " + dir.file("b.lcmlog") + " --robot B");
+  EXPECT_EQ(result.status, 0) << result.out;
+  EXPECT_NE(result.out.find("(2 odometry, 2 ranges, 3 ground truth, 1 beacons)"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("roam-import: note: " + chosen.notes[1] + "\n"), std::string::npos) << result.out;
+  const auto refused = roam_test::runTool(roam_test::tool("roam-import") + " " + file + " -o " + dir.file("b.lcmlog"));
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.out.find("choose one with --robot A"), std::string::npos) << refused.out;
+  const auto two_letters = roam_test::runTool(roam_test::tool("roam-import") + " " + file + " -o " + dir.file("b.lcmlog") + " --robot AB");
+  EXPECT_EQ(two_letters.status, 2);
+  EXPECT_NE(two_letters.out.find("--robot: expected one robot letter (A, B, ...), got 'AB'"), std::string::npos) << two_letters.out;
 }
 
 TEST(Pyfg, AFileWithoutPoseTimesIsRefusedUnlessTheIntervalIsGiven) {

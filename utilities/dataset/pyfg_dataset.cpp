@@ -1,6 +1,7 @@
 #include "pyfg_dataset.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -8,8 +9,10 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace roam {
@@ -80,7 +83,16 @@ struct RawRange {
 PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& options) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open for reading");
+  // The robot read: options.robot, or the first VERTEX_SE2's. With options.robot, every line of
+  // another robot is set aside (other_robots), and so is a measurement between two robots
+  // (inter_robot); without it a second robot is refused, naming the option.
   std::optional<int> robot;
+  if (options.robot != 0) {
+    if (!std::isalpha(static_cast<unsigned char>(options.robot)) || options.robot == 'L')
+      throw std::runtime_error(path + ": robot '" + options.robot + "': expected a robot's letter (A-Z or a-z; L names beacons)");
+    robot = options.robot;
+  }
+  std::set<int> robots_seen;
   std::map<int, Pose> poses;  // index -> reference pose (heading as in the file)
   std::map<int, long> pose_line;
   std::map<int, Beacon> beacons;
@@ -88,20 +100,35 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
   std::vector<RawRange> ranges;
   // What PyFactorGraph writes beside odometry and ranges, which roam's estimators do not take:
   // set aside and reported in PyfgImport::notes.
-  LineTally pose_priors, loop_closures, pose_landmark_edges;
+  LineTally pose_priors, loop_closures, pose_landmark_edges, other_robots, inter_robot;
   Line line;
   line.file = path;
   std::string text;
-  auto poseIndex = [&](const Line& l, const std::string& name, const char* role) {
+  auto severalRobots = [&](const Line& l, int letter) {
+    l.fail(std::string("several robots ('") + static_cast<char>(*robot) + "' and '" + static_cast<char>(letter) +
+           "'): roam runs one robot per log; choose one with --robot " + static_cast<char>(*robot) +
+           " (the other robots' lines are then set aside)");
+  };
+  // A pose name's robot letter and index (refused if the name is not a pose's).
+  auto poseName = [&](const Line& l, const std::string& name, const char* role) {
     int letter = 0, index = 0;
     if (!splitName(name, &letter, &index) || letter == 'L') l.fail(std::string(role) + " '" + name + "' is not a pose name (a robot letter and an index, e.g. A12)");
+    return std::make_pair(letter, index);
+  };
+  // With --robot: a pose of another robot (the line is set aside).
+  auto ofOtherRobot = [&](const Line& l, const std::string& name, const char* role) {
+    return options.robot != 0 && poseName(l, name, role).first != options.robot;
+  };
+  auto poseIndex = [&](const Line& l, const std::string& name, const char* role) {
+    const auto [letter, index] = poseName(l, name, role);
     if (!robot) l.fail(std::string(role) + " '" + name + "' before any VERTEX_SE2");
-    if (letter != *robot) {
-      l.fail(std::string("several robots ('") + static_cast<char>(*robot) + "' and '" + static_cast<char>(letter) +
-             "') are not supported: roam runs one robot per log");
-    }
+    if (letter != *robot) severalRobots(l, letter);
     if (!poses.count(index)) l.fail(std::string(role) + " '" + name + "' has no VERTEX_SE2");
     return index;
+  };
+  // A set-aside line's numbers are checked like the rest.
+  auto checkNumbers = [&](const Line& l, size_t first, size_t end, size_t measurements) {
+    for (size_t i = first; i < end; ++i) l.number_at(i, i < first + measurements ? "measurement" : "covariance");
   };
   auto beaconIndex = [&](const Line& l, const std::string& name) {
     int letter = 0, index = 0;
@@ -121,10 +148,14 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
       line.expectFields(6, "time name x y theta");
       int letter = 0, index = 0;
       if (!splitName(line.fields[2], &letter, &index) || letter == 'L') line.fail("VERTEX_SE2: '" + line.fields[2] + "' is not a pose name (e.g. A12)");
+      robots_seen.insert(letter);
       if (!robot) robot = letter;
       if (letter != *robot) {
-        line.fail(std::string("several robots ('") + static_cast<char>(*robot) + "' and '" + static_cast<char>(letter) +
-                  "') are not supported: roam runs one robot per log");
+        if (options.robot == 0) severalRobots(line, letter);
+        checkNumbers(line, 3, 6, 3);
+        line.number_at(1, "time");
+        other_robots.add(line.number);
+        continue;
       }
       if (poses.count(index)) line.fail("VERTEX_SE2: pose '" + line.fields[2] + "' given twice (first on line " + std::to_string(pose_line[index]) + ")");
       Pose pose;
@@ -155,12 +186,19 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
       beacon.covariance = {c11, c12, c12, c22};
     } else if (type == "EDGE_SE2") {
       line.expectFields(13, "time from to dx dy dtheta and 6 covariance values");
+      const bool other_from = ofOtherRobot(line, line.fields[2], "EDGE_SE2: from");
+      const bool other_to = ofOtherRobot(line, line.fields[3], "EDGE_SE2: to");
+      if (other_from || other_to) {  // another robot's odometry or loop closure, or one between robots
+        checkNumbers(line, 4, 13, 3);
+        (other_from && other_to ? other_robots : inter_robot).add(line.number);
+        continue;
+      }
       RawEdge edge;
       edge.line = line.number;
       edge.from = poseIndex(line, line.fields[2], "EDGE_SE2: from");
       edge.to = poseIndex(line, line.fields[3], "EDGE_SE2: to");
       if (edge.to != edge.from + 1) {  // a loop closure
-        for (size_t i = 4; i < 13; ++i) line.number_at(i, i < 7 ? "measurement" : "covariance");
+        checkNumbers(line, 4, 13, 3);
         loop_closures.add(line.number);
         continue;
       }
@@ -173,6 +211,13 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
       line.expectFields(6, "time a b range variance");
       const int b1 = beaconIndex(line, line.fields[2]), b2 = beaconIndex(line, line.fields[3]);
       if (b1 >= 0 && b2 >= 0) line.fail("EDGE_RANGE between two beacons is not supported");
+      const bool other_a = b1 < 0 && ofOtherRobot(line, line.fields[2], "EDGE_RANGE: a");
+      const bool other_b = b2 < 0 && ofOtherRobot(line, line.fields[3], "EDGE_RANGE: b");
+      if (other_a || other_b) {  // another robot's range, or one between two robots
+        checkNumbers(line, 4, 6, 1);
+        (b1 < 0 && b2 < 0 && !(other_a && other_b) ? inter_robot : other_robots).add(line.number);
+        continue;
+      }
       if (b1 < 0 && b2 < 0) {
         line.fail("EDGE_RANGE " + line.fields[2] + " " + line.fields[3] +
                   ": ranges between poses (inter-robot ranges) are not supported");
@@ -190,18 +235,33 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
       line.fail(type + ": 3-D data is not supported (roam is 2-D)");
     } else if (type == "VERTEX_SE2:PRIOR") {
       line.expectFields(12, "time name x y theta and 6 covariance values");
+      if (ofOtherRobot(line, line.fields[2], "VERTEX_SE2:PRIOR: pose")) {
+        checkNumbers(line, 3, 12, 3);
+        other_robots.add(line.number);
+        continue;
+      }
       poseIndex(line, line.fields[2], "VERTEX_SE2:PRIOR: pose");
-      for (size_t i = 3; i < 12; ++i) line.number_at(i, i < 6 ? "measurement" : "covariance");
+      checkNumbers(line, 3, 12, 3);
       pose_priors.add(line.number);
     } else if (type == "EDGE_SE2_XY") {
       line.expectFields(9, "time pose beacon dx dy and 3 covariance values");
+      if (ofOtherRobot(line, line.fields[2], "EDGE_SE2_XY: pose")) {
+        checkNumbers(line, 4, 9, 2);
+        other_robots.add(line.number);
+        continue;
+      }
       poseIndex(line, line.fields[2], "EDGE_SE2_XY: pose");
       if (beaconIndex(line, line.fields[3]) < 0) line.fail("EDGE_SE2_XY: '" + line.fields[3] + "' is not a beacon name (e.g. L3)");
-      for (size_t i = 4; i < 9; ++i) line.number_at(i, i < 6 ? "measurement" : "covariance");
+      checkNumbers(line, 4, 9, 2);
       pose_landmark_edges.add(line.number);
     } else {
       line.fail("unknown type '" + type + "'");
     }
+  }
+  if (poses.empty() && options.robot != 0 && !robots_seen.empty()) {
+    std::string letters;
+    for (int letter : robots_seen) letters += std::string(letters.empty() ? "" : ", ") + static_cast<char>(letter);
+    throw std::runtime_error(path + ": no VERTEX_SE2 of robot '" + options.robot + "' (--robot); the file's robots: " + letters);
   }
   if (poses.empty()) throw std::runtime_error(path + ": no VERTEX_SE2 (a pyfg run needs poses)");
   // Poses must be A<first>, A<first+1>, ... with one edge into each but the first.
@@ -258,6 +318,15 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
   note(loop_closures, "loop closure(s) (EDGE_SE2 between poses that are not consecutive)",
        "roam's estimators take odometry and ranges");
   note(pose_landmark_edges, "pose-landmark measurement(s) (EDGE_SE2_XY)", "roam's estimators take ranges only");
+  if (other_robots.count > 0) {
+    std::string letters;
+    for (int letter : robots_seen)
+      if (letter != *robot) letters += std::string(letters.empty() ? "" : ", ") + static_cast<char>(letter);
+    note(other_robots, "line(s) of other robots (" + letters + ")",
+         std::string("--robot ") + static_cast<char>(*robot) + " reads robot " + static_cast<char>(*robot) + " alone");
+  }
+  note(inter_robot, "measurement(s) between two robots (EDGE_RANGE, EDGE_SE2)",
+       "roam's estimators take ranges to fixed beacons");
   if (options.pose_interval_s > 0.0) {
     char interval_s[32];
     std::snprintf(interval_s, sizeof interval_s, "%.6g", options.pose_interval_s);

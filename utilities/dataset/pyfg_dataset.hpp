@@ -1,5 +1,5 @@
 // pyfg (PyFactorGraph's text format, read by CORA and GTSAM's range-aided examples) in and out
-// of a roam::Dataset. 2-D, one robot, range-aided SLAM:
+// of a roam::Dataset. 2-D, one robot a run, range-aided SLAM:
 //
 //   VERTEX_SE2 t A<i> x y theta               reference pose i (ground truth; the first is the
 //                                             start pose); its time t (s) is the step's time
@@ -26,10 +26,13 @@
 // pose priors (VERTEX_SE2:PRIOR, commonly one on the first pose), loop closures (EDGE_SE2
 // between poses that are not consecutive) and pose-landmark measurements (EDGE_SE2_XY).
 //
-// Refused with "<file>:<line>: ..." (never skipped): 3-D types, several robots, inter-robot
-// or pose-pose ranges, unknown types, bad numbers, unknown or repeated names, a pose without
-// its odometry edge, and poses that all carry one time (unless PyfgImportOptions::pose_interval_s
-// stamps them).
+// Several robots (A, B, ... in one file): one is read, chosen by PyfgImportOptions::robot; the
+// other robots' lines and the measurements between robots are set aside with a note.
+//
+// Refused with "<file>:<line>: ..." (never skipped): 3-D types, several robots without a robot
+// chosen, ranges between two poses of the robot read, unknown types, bad numbers, unknown or
+// repeated names, a pose without its odometry edge, and poses that all carry one time (unless
+// PyfgImportOptions::pose_interval_s stamps them).
 #pragma once
 
 #include <string>
@@ -47,6 +50,10 @@ struct PyfgImportOptions {
   // says; for files that carry no pose times (every VERTEX_SE2 at one time, which is refused
   // without it).
   double pose_interval_s = 0.0;
+  // 0: the file's one robot (a second robot is refused, naming this option). A letter: that
+  // robot's poses, odometry and ranges are read, and every line of the other robots, and every
+  // measurement between two robots, is set aside with a note (a multi-robot file, one robot a run).
+  char robot = 0;
 };
 
 struct PyfgImport {

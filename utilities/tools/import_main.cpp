@@ -1,5 +1,5 @@
 // roam-import DIR -o LOG [--heading-offset RAD] [--odometry-from-path FILE]
-// roam-import FILE.pyfg -o LOG [--forward-axis x|y|auto]
+// roam-import FILE.pyfg -o LOG [--forward-axis x|y|auto] [--pose-interval-s S] [--robot LETTER]
 // A run in the CSV layout of ../shared/data/plaza1 (see utilities/dataset/csv_dataset.hpp) or a
 // pyfg file (utilities/dataset/pyfg_dataset.hpp) to an LCM log (see dataset_log.hpp). The format
 // is known from the argument (a folder: csv; a name ending in .pyfg: pyfg) or --format. Prints
@@ -21,11 +21,12 @@ namespace po = boost::program_options;
 int main(int argc, char** argv) {
   std::string dir, output, format, forward_axis = "auto";
   double pose_interval_s = 0.0;
+  std::string robot;
   roam::CsvImportOptions options;
   po::options_description visible(
       "roam-import DIR -o LOG: a run in the CSV layout (odometry.csv, ranges.csv, groundtruth.csv,\n"
       "landmarks.csv) to an LCM log with INITIAL_POSE, BEACONS, GROUND_TRUTH, ODOMETRY, RANGE\n"
-      "roam-import FILE.pyfg -o LOG: the same from a pyfg file (2-D, one robot)");
+      "roam-import FILE.pyfg -o LOG: the same from a pyfg file (2-D, one robot a run: --robot)");
   visible.add_options()
       ("help,h", "this help")
       ("output,o", po::value(&output), "the LCM log to write (required)")
@@ -36,6 +37,9 @@ int main(int argc, char** argv) {
       ("pose-interval-s", po::value(&pose_interval_s)->default_value(0.0),
        "pyfg: SECONDS between consecutive poses, for a file whose poses carry no times (all at one "
        "time); 0: the file's times")
+      ("robot", po::value(&robot),
+       "pyfg: the LETTER of the robot to read from a file of several (A, B, ...); the other robots' "
+       "lines and the ranges between robots are set aside with a note")
       ("heading-offset", po::value(&options.heading_offset_rad)->default_value(0.0),
        "RAD added to every ground-truth heading (e.g. 3.14159265 for reversed headings)")
       ("odometry-from-path", po::value(&options.odometry_from_path),
@@ -67,6 +71,10 @@ int main(int argc, char** argv) {
       if (!(pose_interval_s >= 0.0) || !std::isfinite(pose_interval_s))
         throw std::runtime_error("--pose-interval-s: expected seconds >= 0, got " + std::to_string(pose_interval_s));
       pyfg.pose_interval_s = pose_interval_s;
+      if (vm.count("robot")) {
+        if (robot.size() != 1) throw std::runtime_error("--robot: expected one robot letter (A, B, ...), got '" + robot + "'");
+        pyfg.robot = robot[0];
+      }
       if (!vm["heading-offset"].defaulted() || !options.odometry_from_path.empty())
         throw std::runtime_error("--heading-offset and --odometry-from-path are for the CSV layout, not pyfg");
       const roam::PyfgImport imported = roam::loadPyfgDataset(dir, pyfg);
@@ -84,6 +92,7 @@ int main(int argc, char** argv) {
     }
     if (format != "csv") throw std::runtime_error("--format: expected csv | pyfg, got '" + format + "'");
     if (!vm["pose-interval-s"].defaulted()) throw std::runtime_error("--pose-interval-s is for pyfg, not the CSV layout");
+    if (vm.count("robot")) throw std::runtime_error("--robot is for pyfg, not the CSV layout");
     std::vector<std::string> notes;
     const roam::Dataset dataset = roam::loadCsvDataset(dir, options, &notes);
     const roam::LogWriteSummary s = roam::writeDatasetLog(output, dataset);
