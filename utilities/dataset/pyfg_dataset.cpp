@@ -93,6 +93,12 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
     robot = options.robot;
   }
   std::set<int> robots_seen;
+  auto robotLetters = [&](int except) {  // "A, B": the robots with a VERTEX_SE2, but one
+    std::string letters;
+    for (int letter : robots_seen)
+      if (letter != except) letters += std::string(letters.empty() ? "" : ", ") + static_cast<char>(letter);
+    return letters;
+  };
   std::map<int, Pose> poses;  // index -> reference pose (heading as in the file)
   std::map<int, long> pose_line;
   std::map<int, Beacon> beacons;
@@ -259,9 +265,8 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
     }
   }
   if (poses.empty() && options.robot != 0 && !robots_seen.empty()) {
-    std::string letters;
-    for (int letter : robots_seen) letters += std::string(letters.empty() ? "" : ", ") + static_cast<char>(letter);
-    throw std::runtime_error(path + ": no VERTEX_SE2 of robot '" + options.robot + "' (--robot); the file's robots: " + letters);
+    throw std::runtime_error(path + ": no VERTEX_SE2 of robot '" + options.robot + "' (--robot); the file's robots: " +
+                             robotLetters(0));
   }
   if (poses.empty()) throw std::runtime_error(path + ": no VERTEX_SE2 (a pyfg run needs poses)");
   // Poses must be A<first>, A<first+1>, ... with one edge into each but the first.
@@ -318,13 +323,8 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
   note(loop_closures, "loop closure(s) (EDGE_SE2 between poses that are not consecutive)",
        "roam's estimators take odometry and ranges");
   note(pose_landmark_edges, "pose-landmark measurement(s) (EDGE_SE2_XY)", "roam's estimators take ranges only");
-  if (other_robots.count > 0) {
-    std::string letters;
-    for (int letter : robots_seen)
-      if (letter != *robot) letters += std::string(letters.empty() ? "" : ", ") + static_cast<char>(letter);
-    note(other_robots, "line(s) of other robots (" + letters + ")",
-         std::string("--robot ") + static_cast<char>(*robot) + " reads robot " + static_cast<char>(*robot) + " alone");
-  }
+  note(other_robots, "line(s) of other robots (" + robotLetters(*robot) + ")",
+       std::string("--robot ") + static_cast<char>(*robot) + " reads robot " + static_cast<char>(*robot) + " alone");
   note(inter_robot, "measurement(s) between two robots (EDGE_RANGE, EDGE_SE2)",
        "roam's estimators take ranges to fixed beacons");
   if (options.pose_interval_s > 0.0) {
