@@ -5,7 +5,7 @@
 //   consensus solve -> trimmed solve over every sighting -> the plain (bias-free) solve where the
 //   ranges do not ask for a bias -> each range judged against the solve of the others (deleted
 //   residual, gate_probability; masking guarded) -> the range bias inside its prior's gate.
-// A ready beacon is inserted by rolling the filter back to its first sighting (ekf_slam.cpp,
+// A ready beacon is inserted by rolling the filter back to its first sighting (ekf_history.cpp,
 // rollbackAndInsert). Units: metres, radians, seconds.
 #include "ekf_slam.hpp"
 
