@@ -136,6 +136,14 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
   auto checkNumbers = [&](const Line& l, size_t first, size_t end, size_t measurements) {
     for (size_t i = first; i < end; ++i) l.number_at(i, i < first + measurements ? "measurement" : "covariance");
   };
+  // With --robot: a line on one pose of another robot is checked and set aside (true).
+  auto setAsideIfOtherRobot = [&](const Line& l, const std::string& name, const char* role, size_t first, size_t end,
+                                  size_t measurements) {
+    if (!ofOtherRobot(l, name, role)) return false;
+    checkNumbers(l, first, end, measurements);
+    other_robots.add(l.number);
+    return true;
+  };
   auto beaconIndex = [&](const Line& l, const std::string& name) {
     int letter = 0, index = 0;
     if (!splitName(name, &letter, &index) || letter != 'L') return -1;
@@ -241,21 +249,13 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
       line.fail(type + ": 3-D data is not supported (roam is 2-D)");
     } else if (type == "VERTEX_SE2:PRIOR") {
       line.expectFields(12, "time name x y theta and 6 covariance values");
-      if (ofOtherRobot(line, line.fields[2], "VERTEX_SE2:PRIOR: pose")) {
-        checkNumbers(line, 3, 12, 3);
-        other_robots.add(line.number);
-        continue;
-      }
+      if (setAsideIfOtherRobot(line, line.fields[2], "VERTEX_SE2:PRIOR: pose", 3, 12, 3)) continue;
       poseIndex(line, line.fields[2], "VERTEX_SE2:PRIOR: pose");
       checkNumbers(line, 3, 12, 3);
       pose_priors.add(line.number);
     } else if (type == "EDGE_SE2_XY") {
       line.expectFields(9, "time pose beacon dx dy and 3 covariance values");
-      if (ofOtherRobot(line, line.fields[2], "EDGE_SE2_XY: pose")) {
-        checkNumbers(line, 4, 9, 2);
-        other_robots.add(line.number);
-        continue;
-      }
+      if (setAsideIfOtherRobot(line, line.fields[2], "EDGE_SE2_XY: pose", 4, 9, 2)) continue;
       poseIndex(line, line.fields[2], "EDGE_SE2_XY: pose");
       if (beaconIndex(line, line.fields[3]) < 0) line.fail("EDGE_SE2_XY: '" + line.fields[3] + "' is not a beacon name (e.g. L3)");
       checkNumbers(line, 4, 9, 2);
