@@ -28,6 +28,9 @@ plugin = deadreckoning
 plugin = ekf
 anchor = beacons
 INI
+status=0; "$sweep" --summary ekf_start --config "$work/sweep.ini" --results "$work/r" 2>"$work/err" >/dev/null || status=$?
+[ "$status" -eq 2 ] && grep -q "summary names 'ekf_start'.*its estimators: deadreckoning, ekf_beacons" "$work/err" ||
+  fail "unknown --summary column: exit $status, $(cat "$work/err")"
 "$sweep" --seeds 2 --first-seed 7 --kinds nlos30 --config "$work/sweep.ini" --jobs 1 --results "$work/r" >"$work/table.md"
 
 # The same runs made by hand (the options --list prints) and scored by roam-eval.
@@ -55,6 +58,14 @@ print('| $estimator | %.2f | %.2f | %.2f (%d) | %.2f (%d) |  |' % ((a + b) / 2, 
   grep -qxF "$row" "$work/table.md" || fail "expected row '$row' in:
 $(cat "$work/table.md")"
 done
+# The summary matrix: median (the mean of two seeds) and worst of each default column the config has.
+median_worst() { python3 -c "a, b = $1, $2; print('%.2f (%.2f)' % ((a + b) / 2, max(a, b)))"; }
+row="| nlos30 | $(median_worst "${expected[deadreckoning-7]}" "${expected[deadreckoning-8]}") | $(median_worst "${expected[ekf_beacons-7]}" "${expected[ekf_beacons-8]}") |"
+[ "$(head -1 "$work/r/seed-sweep-summary.md")" = "| kind | dead reckoning | EKF, beacons |" ] ||
+  fail "summary header: $(head -1 "$work/r/seed-sweep-summary.md")"
+grep -qxF "$row" "$work/r/seed-sweep-summary.md" || fail "expected summary row '$row' in:
+$(cat "$work/r/seed-sweep-summary.md")"
+grep -qxF "$row" "$work/table.md" || fail "the printed output lacks the summary row '$row'"
 # The EKF with surveyed beacons holds on this kind (30 % NLOS): well under dead reckoning.
 python3 -c "import sys; sys.exit(0 if ${expected[ekf_beacons-7]} < 0.5 and ${expected[ekf_beacons-8]} < 0.5 else 1)" ||
   fail "ekf_beacons ${expected[ekf_beacons-7]} / ${expected[ekf_beacons-8]} m on nlos30"
