@@ -36,7 +36,7 @@ std::vector<size_t> indicesOf(const Events& events, const std::string& channel);
 // Decodes an event as Message, lets `change` modify it, re-encodes it.
 template <typename Message, typename Change>
 void modify(Event* event, Change&& change) {
-  Message message;
+  Message message{};  // value-initialised: a decode that fails leaves zeros, not garbage
   message.decode(event->bytes.data(), 0, static_cast<int>(event->bytes.size()));
   change(message);
   event->bytes.assign(static_cast<size_t>(message.getEncodedSize()), '\0');

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "command_line.hpp"
 #include "loglog_figure.hpp"
 #include "measurement_model_study.hpp"
 #include "png_render.hpp"
@@ -88,12 +89,7 @@ int main(int argc, char** argv) {
   // clang-format on
   try {
     po::variables_map vm;
-    po::store(po::parse_command_line(argc, argv, visible), vm);
-    if (vm.count("help")) {
-      std::cout << visible << "\n";
-      return 0;
-    }
-    po::notify(vm);
+    if (!roam::tools::parseCommandLine(argc, argv, visible, &vm)) return 0;
     if (!png_path.empty() && svg_path.empty()) throw std::runtime_error("--png needs --svg");
     if (!(study.range_sigma_m >= 0.0)) throw std::runtime_error("--range-sigma: expected >= 0");
     if (study.steps.size() < 2) throw std::runtime_error("--steps: expected at least two lengths");

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "command_line.hpp"
 #include "paper_sim_figure.hpp"
 #include "paper_sim_study.hpp"
 #include "png_render.hpp"
@@ -62,12 +63,7 @@ int main(int argc, char** argv) {
   // clang-format on
   try {
     po::variables_map vm;
-    po::store(po::parse_command_line(argc, argv, visible), vm);
-    if (vm.count("help")) {
-      std::cout << visible << "\n";
-      return 0;
-    }
-    po::notify(vm);
+    if (!roam::tools::parseCommandLine(argc, argv, visible, &vm)) return 0;
     if (options.runs < 1) throw std::runtime_error("--runs: runs must be >= 1");
     if (options.steps < 1) throw std::runtime_error("--steps: steps must be >= 1");
     if (options.particles < 2) throw std::runtime_error("--particles: particles must be >= 2");

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "command_line.hpp"
 #include "error_figure.hpp"
 #include "paths_figure.hpp"
 #include "plot_series.hpp"
@@ -71,18 +72,13 @@ int main(int argc, char** argv) {
       ("no-odometry", "leave out the 'odometry' baseline (dead reckoning integrated from the log's ODOMETRY)")
       ("no-png", "write the SVG pictures only");
   // clang-format on
-  po::options_description all;
-  all.add(visible).add_options()("log", po::value(&log_path));
+  po::options_description hidden;
+  hidden.add_options()("log", po::value(&log_path));
   po::positional_options_description positional;
   positional.add("log", 1);
   try {
     po::variables_map vm;
-    po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
-    if (vm.count("help")) {
-      std::cout << visible << "\n";
-      return 0;
-    }
-    po::notify(vm);
+    if (!roam::tools::parseCommandLine(argc, argv, visible, hidden, positional, &vm)) return 0;
     if (log_path.empty()) throw std::runtime_error("missing RESULT_LOG (a log with GROUND_TRUTH and estimator outputs)");
     if (prefix.empty()) throw std::runtime_error("missing -o PREFIX (the files written are PREFIX-paths.svg, ...)");
     if (options.width_px < 200 || options.width_px > 10000 || options.height_px < 150 || options.height_px > 10000)

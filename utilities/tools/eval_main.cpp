@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "command_line.hpp"
 #include "result_log.hpp"
 #include "score_table.hpp"
 
@@ -40,18 +41,13 @@ int main(int argc, char** argv) {
       ("no-odometry", "leave out the 'odometry' row (dead reckoning integrated from the log's ODOMETRY)")
       ("status", "instead of scores: each estimator's last STATUS_ (state, accepted and rejected input, "
                  "diagnostics such as the odometry calibration it recovered), one line each");
-  po::options_description all;
-  all.add(visible).add_options()("log", po::value(&logs));
+  po::options_description hidden;
+  hidden.add_options()("log", po::value(&logs));
   po::positional_options_description positional;
   positional.add("log", -1);
   try {
     po::variables_map vm;
-    po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
-    if (vm.count("help")) {
-      std::cout << visible << "\n";
-      return 0;
-    }
-    po::notify(vm);
+    if (!roam::tools::parseCommandLine(argc, argv, visible, hidden, positional, &vm)) return 0;
     roam::TableFormat format;
     if (format_name == "text") format = roam::TableFormat::kText;
     else if (format_name == "markdown") format = roam::TableFormat::kMarkdown;

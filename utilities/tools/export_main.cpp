@@ -22,6 +22,7 @@
 #include <iostream>
 #include <string>
 
+#include "command_line.hpp"
 #include "pyfg_dataset.hpp"
 #include "result_log.hpp"
 #include "score_table.hpp"
@@ -114,18 +115,13 @@ int main(int argc, char** argv) {
       ("ground-truth", "GROUND_TRUTH instead of an estimator's path")
       ("map", "the last MAP_<NAME> of --estimator, or the surveyed BEACONS without --estimator")
       ("output,o", po::value(&output), "FILE to write (default: stdout)");
-  po::options_description all;
-  all.add(visible).add_options()("log", po::value(&log_path));
+  po::options_description hidden;
+  hidden.add_options()("log", po::value(&log_path));
   po::positional_options_description positional;
   positional.add("log", 1);
   try {
     po::variables_map vm;
-    po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
-    if (vm.count("help")) {
-      std::cout << visible << "\n";
-      return 0;
-    }
-    po::notify(vm);
+    if (!roam::tools::parseCommandLine(argc, argv, visible, hidden, positional, &vm)) return 0;
     const bool ground_truth = vm.count("ground-truth") > 0, map = vm.count("map") > 0;
     if (log_path.empty()) throw std::runtime_error("missing RESULT_LOG");
     if (ground_truth && !estimator.empty()) throw std::runtime_error("give --estimator NAME or --ground-truth, not both");

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "command_line.hpp"
 #include "csv_dataset.hpp"
 #include "dataset_log.hpp"
 #include "pyfg_dataset.hpp"
@@ -45,18 +46,13 @@ int main(int argc, char** argv) {
       ("odometry-from-path", po::value(&options.odometry_from_path),
        "FILE: derive odometry from a dead-reckoned path CSV (time_s,x_m,y_m[,heading_rad]) "
        "instead of odometry.csv");
-  po::options_description all;
-  all.add(visible).add_options()("dir", po::value(&dir));
+  po::options_description hidden;
+  hidden.add_options()("dir", po::value(&dir));
   po::positional_options_description positional;
   positional.add("dir", 1);
   try {
     po::variables_map vm;
-    po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
-    if (vm.count("help")) {
-      std::cout << visible << "\n";
-      return 0;
-    }
-    po::notify(vm);
+    if (!roam::tools::parseCommandLine(argc, argv, visible, hidden, positional, &vm)) return 0;
     if (dir.empty()) throw std::runtime_error("missing DIR or FILE.pyfg (the run to import)");
     if (output.empty()) throw std::runtime_error("missing -o LOG (the log to write)");
     if (format.empty()) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "command_line.hpp"
 #include "csv_dataset.hpp"
 #include "dataset_log.hpp"
 #include "sim.hpp"
@@ -115,12 +116,7 @@ int main(int argc, char** argv) {
   // clang-format on
   try {
     po::variables_map vm;
-    po::store(po::parse_command_line(argc, argv, visible), vm);
-    if (vm.count("help")) {
-      std::cout << visible << "\n";
-      return 0;
-    }
-    po::notify(vm);
+    if (!roam::tools::parseCommandLine(argc, argv, visible, &vm)) return 0;
     require(!output.empty(), "missing -o LOG (the log to write)");
     require(c.num_steps > 0, "--steps: expected > 0");
     require(c.dt_s > 0, "--dt: expected > 0");
