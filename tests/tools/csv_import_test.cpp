@@ -165,8 +165,59 @@ TEST(CsvImport, SenderIdTellsRangesBetweenBeaconsAndReversedOnes) {
 TEST(CsvImport, MissingFileIsNamed) {
   roam_test::ScratchDir dir;
   writeValidRun(dir);
+  std::remove(dir.file("ranges.csv").c_str());
+  EXPECT_EQ(loadError(dir.path()), dir.file("ranges.csv") + ": cannot open (No such file or directory)");
+  writeValidRun(dir);
+  std::remove(dir.file("odometry.csv").c_str());
+  EXPECT_EQ(loadError(dir.path()), dir.file("odometry.csv") + ": cannot open (No such file or directory)");
+}
+
+TEST(CsvImport, AFieldRunWithoutGroundTruthOrSurveyStartsAtTheOriginWithNotes) {
+  // A robot's own run has odometry and ranges only: it starts at the origin, heading 0, one
+  // odometry step (10.2 -> 10.4 s: 0.2 s) before the first step ends (10.0 s, before the first
+  // range at 10.1 s), with no ground truth and no beacons, and each missing file is a note.
+  roam_test::ScratchDir dir;
+  writeValidRun(dir);
+  const roam::Dataset full = roam::loadCsvDataset(dir.path());
+  std::remove(dir.file("groundtruth.csv").c_str());
   std::remove(dir.file("landmarks.csv").c_str());
-  EXPECT_EQ(loadError(dir.path()), dir.file("landmarks.csv") + ": cannot open (No such file or directory)");
+  std::vector<std::string> notes;
+  const roam::Dataset d = roam::loadCsvDataset(dir.path(), {}, &notes);
+  EXPECT_TRUE(d.ground_truth.empty());
+  EXPECT_TRUE(d.beacons.empty());
+  EXPECT_EQ(d.start.utime, 10000000);
+  EXPECT_EQ(d.start.x_m, 0.0);
+  EXPECT_EQ(d.start.y_m, 0.0);
+  EXPECT_EQ(d.start.heading_rad, 0.0);
+  ASSERT_EQ(d.odometry.size(), full.odometry.size());
+  for (size_t k = 0; k < d.odometry.size(); ++k) {
+    EXPECT_EQ(d.odometry[k].utime, full.odometry[k].utime);
+    EXPECT_EQ(d.odometry[k].forward_m, full.odometry[k].forward_m);
+    EXPECT_EQ(d.odometry[k].delta_heading_rad, full.odometry[k].delta_heading_rad);
+  }
+  ASSERT_EQ(d.ranges.size(), full.ranges.size());
+  // roam-import says so, and the run lasts from that start to its last event (10.4 s).
+  const auto result = roam_test::runTool(roam_test::tool("roam-import") + " " + dir.path() + " -o " + dir.file("r.lcmlog"));
+  EXPECT_EQ(result.status, 0) << result.out;
+  EXPECT_NE(result.out.find("(2 odometry, 3 ranges, 0 ground truth, 0 beacons), 0.400 s from utime 10000000\n"),
+            std::string::npos) << result.out;
+  ASSERT_EQ(notes.size(), 3u);
+  EXPECT_EQ(notes[0], dir.file("landmarks.csv") + ": none: no surveyed beacons (BEACONS is empty): the estimators "
+                      "place every beacon from its ranges, from the start pose; anchor = beacons has no survey to "
+                      "hold (spectral refuses it)");
+  EXPECT_EQ(notes[1].rfind(dir.file("ranges.csv") + ":2: kept 3 range(s) to beacon(s) 0, 1, which landmarks.csv", 0), 0u)
+      << notes[1];
+  EXPECT_EQ(notes[2], dir.file("groundtruth.csv") + ": none: the start pose is the origin, heading 0 (the estimates "
+                      "are in the start pose's frame), one odometry step before the first ends; nothing for "
+                      "roam-eval to score");
+  // A first range earlier than that: the start moves back to it.
+  dir.write("ranges.csv", "time_s,beacon_id,range_m\n9.5,1,8.5\n10.1,0,4.25\n");
+  EXPECT_EQ(roam::loadCsvDataset(dir.path()).start.utime, 9500000);
+  // The path-derived odometry needs the ground truth's start pose.
+  roam::CsvImportOptions options;
+  options.odometry_from_path = dir.file("odometry.csv");
+  EXPECT_EQ(loadError(dir.path(), options),
+            dir.file("groundtruth.csv") + ": cannot open: --odometry-from-path needs it (its first row is the start pose)");
 }
 
 TEST(CsvImport, OdometryFromPath) {

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -200,18 +203,45 @@ std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons, st
 
 Dataset loadCsvDataset(const std::string& dir, const CsvImportOptions& options, std::vector<std::string>* notes) {
   Dataset dataset;
-  const std::string gt_file = joinPath(dir, "groundtruth.csv");
-  dataset.ground_truth = loadPathCsv(gt_file, options.heading_offset_rad);
-  if (dataset.ground_truth.empty()) {
-    throw std::runtime_error(gt_file + ":2: no rows (the start pose is the first ground-truth row)");
+  const std::string gt_file = joinPath(dir, "groundtruth.csv"), landmarks_file = joinPath(dir, "landmarks.csv");
+  const bool has_ground_truth = std::filesystem::exists(gt_file);
+  if (has_ground_truth) {
+    dataset.ground_truth = loadPathCsv(gt_file, options.heading_offset_rad);
+    if (dataset.ground_truth.empty()) {
+      throw std::runtime_error(gt_file + ":2: no rows (the start pose is the first ground-truth row)");
+    }
+    dataset.start = dataset.ground_truth.front();
+  } else if (!options.odometry_from_path.empty()) {
+    throw std::runtime_error(gt_file + ": cannot open: --odometry-from-path needs it (its first row is the start pose)");
   }
-  dataset.start = dataset.ground_truth.front();
-  dataset.beacons = loadLandmarksCsv(joinPath(dir, "landmarks.csv"));
+  if (std::filesystem::exists(landmarks_file)) {
+    dataset.beacons = loadLandmarksCsv(landmarks_file);
+  } else if (notes) {
+    notes->push_back(landmarks_file + ": none: no surveyed beacons (BEACONS is empty): the estimators place every "
+                     "beacon from its ranges, from the start pose; anchor = beacons has no survey to hold "
+                     "(spectral refuses it)");
+  }
   dataset.odometry = options.odometry_from_path.empty()
                          ? loadOdometryCsv(joinPath(dir, "odometry.csv"))
                          : odometryFromPathCsv(options.odometry_from_path, dataset.start,
                                                options.heading_offset_rad);
   dataset.ranges = loadRangesCsv(joinPath(dir, "ranges.csv"), dataset.beacons, notes);
+  if (!has_ground_truth) {
+    // A field run: the frame is the start pose's own (origin, heading 0), one odometry step before
+    // the first step ends, and no later than the first range.
+    int64_t start_utime = dataset.odometry.empty() ? std::numeric_limits<int64_t>::max() : dataset.odometry[0].utime;
+    if (dataset.odometry.size() >= 2) start_utime -= dataset.odometry[1].utime - dataset.odometry[0].utime;
+    if (!dataset.ranges.empty()) start_utime = std::min(start_utime, dataset.ranges.front().utime);
+    if (start_utime == std::numeric_limits<int64_t>::max()) {
+      throw std::runtime_error(joinPath(dir, "odometry.csv") + ":2: no rows, and no groundtruth.csv (nothing to start from)");
+    }
+    dataset.start = Pose{};
+    dataset.start.utime = start_utime;
+    if (notes) {
+      notes->push_back(gt_file + ": none: the start pose is the origin, heading 0 (the estimates are in the start "
+                       "pose's frame), one odometry step before the first ends; nothing for roam-eval to score");
+    }
+  }
   return dataset;
 }
 

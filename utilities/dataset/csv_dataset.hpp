@@ -3,10 +3,13 @@
 // Files in DIR (columns found by header name, in any order; extra columns are ignored):
 //   odometry.csv     time_s, delta_distance_m, delta_heading_rad   (end of each step)
 //   ranges.csv       time_s, beacon_id, range_m [, sigma_m] [, bearing_rad] [, sender_id]
-//   groundtruth.csv  time_s, x_m, y_m, heading_rad
-//   landmarks.csv    beacon_id, x_m, y_m
+//   groundtruth.csv  time_s, x_m, y_m, heading_rad           (optional: a field run has none)
+//   landmarks.csv    beacon_id, x_m, y_m                       (optional: no survey)
 // Times become utime = llround(time_s * 1e6). Ranges are sorted by time (stable: equal times
-// keep file order). The start pose is the first ground-truth row (utime = its time).
+// keep file order). The start pose is the first ground-truth row (utime = its time); without
+// groundtruth.csv it is the origin, heading 0, one odometry step (the first two rows' interval)
+// before the first step ends and no later than the first range, and GROUND_TRUTH is empty.
+// Without landmarks.csv BEACONS is empty. Each missing optional file is a note.
 //
 // Ranges that a SLAM run can use but a surveyed map does not list are kept, with a note (the
 // `notes` argument; roam-import prints them): ranges to a beacon id that landmarks.csv does not

@@ -5,7 +5,9 @@
 // is known from the argument (a folder: csv; a name ending in .pyfg: pyfg) or --format. Prints
 // a one-line summary; exit 2 with a one-line error.
 #include <boost/program_options.hpp>
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -19,14 +21,28 @@
 
 namespace po = boost::program_options;
 
+namespace {
+
+// From the start pose to the run's last event (odometry, range or ground truth), in seconds.
+double runSeconds(const roam::Dataset& dataset) {
+  int64_t last = dataset.start.utime;
+  if (!dataset.odometry.empty()) last = std::max(last, dataset.odometry.back().utime);
+  if (!dataset.ranges.empty()) last = std::max(last, dataset.ranges.back().utime);
+  if (!dataset.ground_truth.empty()) last = std::max(last, dataset.ground_truth.back().utime);
+  return 1e-6 * static_cast<double>(last - dataset.start.utime);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   std::string dir, output, format, forward_axis = "auto";
   double pose_interval_s = 0.0;
   std::string robot;
   roam::CsvImportOptions options;
   po::options_description visible(
-      "roam-import DIR -o LOG: a run in the CSV layout (odometry.csv, ranges.csv, groundtruth.csv,\n"
-      "landmarks.csv) to an LCM log with INITIAL_POSE, BEACONS, GROUND_TRUTH, ODOMETRY, RANGE\n"
+      "roam-import DIR -o LOG: a run in the CSV layout (odometry.csv, ranges.csv, and where there are\n"
+      "groundtruth.csv and landmarks.csv) to an LCM log with INITIAL_POSE, BEACONS, GROUND_TRUTH,\n"
+      "ODOMETRY, RANGE (no groundtruth.csv: the start pose is the origin, heading 0)\n"
       "roam-import FILE.pyfg -o LOG: the same from a pyfg file (2-D, one robot a run: --robot)");
   visible.add_options()
       ("help,h", "this help")
@@ -79,7 +95,7 @@ int main(int argc, char** argv) {
       std::printf("roam-import: %s: %ld events (%ld odometry, %ld ranges, %ld ground truth, %ld beacons), "
                   "%.3f s from utime %lld; body frame forward axis %s%s\n",
                   output.c_str(), s.events, s.odometry, s.ranges, s.ground_truth, s.beacons,
-                  1e-6 * static_cast<double>(dataset.ground_truth.back().utime - dataset.start.utime),
+                  runSeconds(dataset),
                   static_cast<long long>(dataset.start.utime),
                   imported.forward_axis == roam::ForwardAxis::kY ? "+y (headings + pi/2)" : "+x",
                   forward_axis == "auto" ? " (auto)" : "");
@@ -97,9 +113,7 @@ int main(int argc, char** argv) {
                 output.c_str(), s.events, s.odometry,
                 options.odometry_from_path.empty() ? "" : " from the path", s.ranges, s.ground_truth,
                 s.beacons,
-                dataset.ground_truth.empty()
-                    ? 0.0
-                    : 1e-6 * static_cast<double>(dataset.ground_truth.back().utime - dataset.start.utime),
+                runSeconds(dataset),
                 static_cast<long long>(dataset.start.utime));
     for (const std::string& note : notes) std::printf("roam-import: note: %s\n", note.c_str());
     return 0;
