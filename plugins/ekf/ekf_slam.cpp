@@ -539,6 +539,7 @@ void EkfSlam::publishDiagnostics() {
 }
 
 void EkfSlam::finish() {
+  if (config_.anchor == EkfConfig::Anchor::kBeacons && surveyed_.empty()) noteNoSurvey();
   // A widening still on trial is decided on the ranges scored so far; after that a starvation
   // run widens at once (the ranges below are in no step a re-run could repeat).
   if (trial_.active) decideRecoveryTrial();

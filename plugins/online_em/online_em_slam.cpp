@@ -494,6 +494,7 @@ void OnlineEmSlam::publish(int64_t utime) {
 }
 
 void OnlineEmSlam::finish() {
+  if (config_.anchor == OnlineEmConfig::Anchor::kBeacons && surveyed_.empty()) noteNoSurvey();
   // A calibrated re-run the bias' sigma never allowed (rerun_bias_sigma_fraction) is made now,
   // with the calibration as learned over the whole run, where a frame correction is still in
   // effect (a rigid fit that moves the start pose itself) or the learned bias is significant

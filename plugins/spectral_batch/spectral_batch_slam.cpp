@@ -102,6 +102,7 @@ void SpectralBatchSlam::addRange(const Range& range) {
 }
 
 void SpectralBatchSlam::finish() {
+  if (config_.anchor == SpectralBatchConfig::Anchor::kBeacons && surveyed_.empty()) noteNoSurvey();
   if (started_) {
     if (spectral_) {
       try {

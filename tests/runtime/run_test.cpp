@@ -137,6 +137,35 @@ TEST(Run, AHeldCalibrationIsNotedWithItsKeyAtTheEnd) {
   EXPECT_EQ(quiet.output.find("note:"), std::string::npos) << quiet.output;
 }
 
+TEST(Run, AnchorBeaconsWithoutASurveyIsNotedAndSpectralRefusesIt) {
+  // A field run with no survey (roam-import without landmarks.csv: BEACONS empty) given to
+  // anchor = beacons: the EKF, online EM and spectral + batch place every beacon from its ranges
+  // and say so, naming the key; spectral fails with its reason. With the survey nothing is noted.
+  const fs::path dir = scratchDir("run_no_survey");
+  Dataset unsurveyed = sim::simulate(testing_util::smallWorld());
+  unsurveyed.beacons.clear();
+  const fs::path log = dir / "unsurveyed.lcmlog";
+  writeDatasetLog(log.string(), unsurveyed);
+  const std::string estimators =
+      "[estimator.ekf]\nplugin = ekf\nanchor = beacons\n[estimator.em]\nplugin = online_em\nanchor = beacons\n"
+      "num_particles = 20\n[estimator.batch]\nplugin = spectral_batch\nanchor = beacons\n"
+      "[estimator.spectral]\nplugin = spectral\nanchor = beacons\n";
+  const auto result = run(roamRun() + " " + writeConfig(dir, log, estimators).string() + " --no-progress");
+  EXPECT_EQ(result.status, 1) << result.output;  // one estimator failed
+  for (const std::string name : {"ekf", "em", "batch"}) {
+    EXPECT_NE(result.output.find("roam-run: note: " + name + " anchor = beacons, but BEACONS held no beacon: every "
+                                 "beacon was placed from its ranges, and the frame is the start pose's: look at key "
+                                 "anchor\n"),
+              std::string::npos)
+        << name << "\n" << result.output;
+  }
+  EXPECT_NE(result.output.find("anchor = beacons needs >= 4 surveyed beacons that were ranged, got 0"), std::string::npos)
+      << result.output;
+  const fs::path surveyed = writeConfig(dir, testing_util::writeSmallWorldLog(dir), estimators);
+  const auto quiet = run(roamRun() + " " + surveyed.string() + " --no-progress");
+  EXPECT_EQ(quiet.output.find("BEACONS held no beacon"), std::string::npos) << quiet.output;
+}
+
 TEST(Run, EveryEstimatorHoldsAFastRobotFromTheStartPose) {
   // A fast UWB robot (sim::fastUwbWorld, seed-sweep's fast-uwb): 50 Hz odometry at 1 m/s, 10
   // ranges a second, a gyro drifting at 0.005 rad/s; five minutes, 15000 steps. Ten times Plaza

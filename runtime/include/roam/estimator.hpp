@@ -76,6 +76,12 @@ class Estimator {
   // carried in STATUS as the diagnostic "note: <text>" (value 1); roam-run prints each note
   // after the run with the key it names.
   void note(const std::string& text) { diagnostics_["note: " + text] = 1.0; }
+  // The note of an estimator configured with anchor = beacons whose BEACONS held no beacon (a run
+  // with no survey): it placed every beacon from its ranges, so its frame is the start pose's.
+  void noteNoSurvey() {
+    note("anchor = beacons, but BEACONS held no beacon: every beacon was placed from its ranges, and the "
+         "frame is the start pose's");
+  }
   // For an estimator that runs others and reports one of them (the EKF's bank of translation-noise
   // models): its state, counts, rejections and diagnostics become `member`'s, plus the inputs this
   // estimator itself was told to reject (the shim's input checks), which no member saw.
