@@ -213,11 +213,21 @@ TEST(CsvImport, AFieldRunWithoutGroundTruthOrSurveyStartsAtTheOriginWithNotes) {
   // A first range earlier than that: the start moves back to it.
   dir.write("ranges.csv", "time_s,beacon_id,range_m\n9.5,1,8.5\n10.1,0,4.25\n");
   EXPECT_EQ(roam::loadCsvDataset(dir.path()).start.utime, 9500000);
-  // The path-derived odometry needs the ground truth's start pose.
+  // Odometry derived from a dead-reckoned path: the path's first row is the start pose.
+  dir.write("path.csv", "time_s,x_m,y_m,heading_rad\n9.8,3.0,4.0,0.25\n10.2,3.3,4.4,0.5\n");
   roam::CsvImportOptions options;
-  options.odometry_from_path = dir.file("odometry.csv");
-  EXPECT_EQ(loadError(dir.path(), options),
-            dir.file("groundtruth.csv") + ": cannot open: --odometry-from-path needs it (its first row is the start pose)");
+  options.odometry_from_path = dir.file("path.csv");
+  notes.clear();
+  const roam::Dataset from_path = roam::loadCsvDataset(dir.path(), options, &notes);
+  EXPECT_EQ(from_path.start.utime, 9800000);
+  EXPECT_EQ(from_path.start.x_m, 3.0);
+  EXPECT_EQ(from_path.start.y_m, 4.0);
+  EXPECT_EQ(from_path.start.heading_rad, 0.25);
+  ASSERT_EQ(from_path.odometry.size(), 1u);
+  EXPECT_NEAR(from_path.odometry[0].forward_m, 0.5, kTolerance);
+  ASSERT_FALSE(notes.empty());
+  EXPECT_EQ(notes.back(), dir.file("groundtruth.csv") + ": none: the start pose is the first row of " +
+                              dir.file("path.csv") + " (--odometry-from-path); nothing for roam-eval to score");
 }
 
 TEST(CsvImport, OdometryFromPath) {

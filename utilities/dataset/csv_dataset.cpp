@@ -117,6 +117,17 @@ std::vector<Odometry> odometryFromPathCsv(const std::string& path, const Pose& s
   return odometry;
 }
 
+Pose pathStartCsv(const std::string& path, double heading_offset_rad) {
+  const CsvTable table(path);
+  if (table.rows() == 0) throw std::runtime_error(path + ":2: no rows (expected a path)");
+  Pose start;
+  start.utime = utimeFromSeconds(table.number(0, table.column("time_s")));
+  start.x_m = table.number(0, table.column("x_m"));
+  start.y_m = table.number(0, table.column("y_m"));
+  if (table.hasColumn("heading_rad")) start.heading_rad = table.number(0, table.column("heading_rad")) + heading_offset_rad;
+  return start;
+}
+
 std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons, std::vector<std::string>* notes) {
   const CsvTable table(path);
   const size_t t = table.column("time_s"), id = table.column("beacon_id"), range = table.column("range_m");
@@ -212,7 +223,7 @@ Dataset loadCsvDataset(const std::string& dir, const CsvImportOptions& options, 
     }
     dataset.start = dataset.ground_truth.front();
   } else if (!options.odometry_from_path.empty()) {
-    throw std::runtime_error(gt_file + ": cannot open: --odometry-from-path needs it (its first row is the start pose)");
+    dataset.start = pathStartCsv(options.odometry_from_path, options.heading_offset_rad);
   }
   if (std::filesystem::exists(landmarks_file)) {
     dataset.beacons = loadLandmarksCsv(landmarks_file);
@@ -226,7 +237,12 @@ Dataset loadCsvDataset(const std::string& dir, const CsvImportOptions& options, 
                          : odometryFromPathCsv(options.odometry_from_path, dataset.start,
                                                options.heading_offset_rad);
   dataset.ranges = loadRangesCsv(joinPath(dir, "ranges.csv"), dataset.beacons, notes);
-  if (!has_ground_truth) {
+  if (!has_ground_truth && !options.odometry_from_path.empty()) {
+    if (notes) {
+      notes->push_back(gt_file + ": none: the start pose is the first row of " + options.odometry_from_path +
+                       " (--odometry-from-path); nothing for roam-eval to score");
+    }
+  } else if (!has_ground_truth) {
     // A field run: the frame is the start pose's own (origin, heading 0), one odometry step before
     // the first step ends, and no later than the first range.
     int64_t start_utime = dataset.odometry.empty() ? std::numeric_limits<int64_t>::max() : dataset.odometry[0].utime;

@@ -8,7 +8,8 @@
 // Times become utime = llround(time_s * 1e6). Ranges are sorted by time (stable: equal times
 // keep file order). The start pose is the first ground-truth row (utime = its time); without
 // groundtruth.csv it is the origin, heading 0, one odometry step (the first two rows' interval)
-// before the first step ends and no later than the first range, and GROUND_TRUTH is empty.
+// before the first step ends and no later than the first range (with --odometry-from-path: the
+// path's first row, its heading 0 where the path has none), and GROUND_TRUTH is empty.
 // Without landmarks.csv BEACONS is empty. Each missing optional file is a note.
 //
 // Ranges that a SLAM run can use but a surveyed map does not list are kept, with a note (the
@@ -61,6 +62,8 @@ Map loadLandmarksCsv(const std::string& path);
 std::vector<Odometry> loadOdometryCsv(const std::string& path);
 std::vector<Odometry> odometryFromPathCsv(const std::string& path, const Pose& start,
                                           double heading_offset_rad = 0.0);
+// The first row of a path CSV as a pose (heading_rad optional: 0 without it).
+Pose pathStartCsv(const std::string& path, double heading_offset_rad = 0.0);
 // Sorted by time (stable); `beacons` (landmarks.csv) decides the notes and sender_id above.
 std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons, std::vector<std::string>* notes = nullptr);
 

@@ -41,7 +41,8 @@ int main(int argc, char** argv) {
   po::options_description visible(
       "roam-import DIR -o LOG: a run in the CSV layout (odometry.csv, ranges.csv, and where there are\n"
       "groundtruth.csv and landmarks.csv) to an LCM log with INITIAL_POSE, BEACONS, GROUND_TRUTH,\n"
-      "ODOMETRY, RANGE (no groundtruth.csv: the start pose is the origin, heading 0)\n"
+      "ODOMETRY, RANGE (no groundtruth.csv: the start pose is the origin, heading 0, or the first\n"
+      "row of --odometry-from-path)\n"
       "roam-import FILE.pyfg -o LOG: the same from a pyfg file (2-D, one robot a run: --robot)");
   visible.add_options()
       ("help,h", "this help")
