@@ -78,9 +78,10 @@ std::vector<Odometry> loadOdometryCsv(const std::string& path) {
   return odometry;
 }
 
-std::vector<Odometry> odometryFromPathCsv(const std::string& path, const Pose& start,
-                                          double heading_offset_rad) {
-  const CsvTable table(path);
+namespace {
+
+std::vector<Odometry> odometryFromPath(const CsvTable& table, const Pose& start, double heading_offset_rad) {
+  const std::string& path = table.path();
   const size_t t = table.column("time_s"), x = table.column("x_m"), y = table.column("y_m");
   const bool has_heading = table.hasColumn("heading_rad");
   if (table.rows() == 0) throw std::runtime_error(path + ":2: no rows (expected a path)");
@@ -117,15 +118,37 @@ std::vector<Odometry> odometryFromPathCsv(const std::string& path, const Pose& s
   return odometry;
 }
 
-Pose pathStartCsv(const std::string& path, double heading_offset_rad) {
-  const CsvTable table(path);
-  if (table.rows() == 0) throw std::runtime_error(path + ":2: no rows (expected a path)");
+// The path's first row as the start pose of a run without ground truth (heading 0 where the path
+// has none: the direction odometryFromPath then gives its first step).
+Pose pathStart(const CsvTable& table, double heading_offset_rad) {
+  if (table.rows() == 0) throw std::runtime_error(table.path() + ":2: no rows (expected a path)");
   Pose start;
   start.utime = utimeFromSeconds(table.number(0, table.column("time_s")));
   start.x_m = table.number(0, table.column("x_m"));
   start.y_m = table.number(0, table.column("y_m"));
   if (table.hasColumn("heading_rad")) start.heading_rad = table.number(0, table.column("heading_rad")) + heading_offset_rad;
   return start;
+}
+
+// A field run with neither ground truth nor a path: its start is one odometry step (the first two
+// rows' interval) before the first step ends, and no later than the first range.
+int64_t fieldRunStartUtime(const Dataset& dataset, const std::string& odometry_file) {
+  if (dataset.odometry.empty() && dataset.ranges.empty()) {
+    throw std::runtime_error(odometry_file + ":2: no rows, and no groundtruth.csv (nothing to start from)");
+  }
+  int64_t start_utime = std::numeric_limits<int64_t>::max();
+  if (!dataset.odometry.empty()) {
+    start_utime = dataset.odometry[0].utime;
+    if (dataset.odometry.size() >= 2) start_utime -= dataset.odometry[1].utime - dataset.odometry[0].utime;
+  }
+  if (!dataset.ranges.empty()) start_utime = std::min(start_utime, dataset.ranges.front().utime);
+  return start_utime;
+}
+
+}  // namespace
+
+std::vector<Odometry> odometryFromPathCsv(const std::string& path, const Pose& start, double heading_offset_rad) {
+  return odometryFromPath(CsvTable(path), start, heading_offset_rad);
 }
 
 std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons, std::vector<std::string>* notes) {
@@ -214,16 +237,19 @@ std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons, st
 
 Dataset loadCsvDataset(const std::string& dir, const CsvImportOptions& options, std::vector<std::string>* notes) {
   Dataset dataset;
-  const std::string gt_file = joinPath(dir, "groundtruth.csv"), landmarks_file = joinPath(dir, "landmarks.csv");
+  const std::string gt_file = joinPath(dir, "groundtruth.csv"), landmarks_file = joinPath(dir, "landmarks.csv"),
+                    odometry_file = joinPath(dir, "odometry.csv");
   const bool has_ground_truth = std::filesystem::exists(gt_file);
+  std::optional<CsvTable> path;  // --odometry-from-path, read once
+  if (!options.odometry_from_path.empty()) path.emplace(options.odometry_from_path);
   if (has_ground_truth) {
     dataset.ground_truth = loadPathCsv(gt_file, options.heading_offset_rad);
     if (dataset.ground_truth.empty()) {
       throw std::runtime_error(gt_file + ":2: no rows (the start pose is the first ground-truth row)");
     }
     dataset.start = dataset.ground_truth.front();
-  } else if (!options.odometry_from_path.empty()) {
-    dataset.start = pathStartCsv(options.odometry_from_path, options.heading_offset_rad);
+  } else if (path) {
+    dataset.start = pathStart(*path, options.heading_offset_rad);
   }
   if (std::filesystem::exists(landmarks_file)) {
     dataset.beacons = loadLandmarksCsv(landmarks_file);
@@ -232,30 +258,18 @@ Dataset loadCsvDataset(const std::string& dir, const CsvImportOptions& options, 
                      "beacon from its ranges, from the start pose; anchor = beacons has no survey to hold "
                      "(spectral refuses it)");
   }
-  dataset.odometry = options.odometry_from_path.empty()
-                         ? loadOdometryCsv(joinPath(dir, "odometry.csv"))
-                         : odometryFromPathCsv(options.odometry_from_path, dataset.start,
-                                               options.heading_offset_rad);
+  dataset.odometry = path ? odometryFromPath(*path, dataset.start, options.heading_offset_rad)
+                          : loadOdometryCsv(odometry_file);
   dataset.ranges = loadRangesCsv(joinPath(dir, "ranges.csv"), dataset.beacons, notes);
-  if (!has_ground_truth && !options.odometry_from_path.empty()) {
+  if (!has_ground_truth) {
+    // A field run: the frame is the start pose's own.
+    if (!path) dataset.start.utime = fieldRunStartUtime(dataset, odometry_file);  // the origin, heading 0
     if (notes) {
-      notes->push_back(gt_file + ": none: the start pose is the first row of " + options.odometry_from_path +
-                       " (--odometry-from-path); nothing for roam-eval to score");
-    }
-  } else if (!has_ground_truth) {
-    // A field run: the frame is the start pose's own (origin, heading 0), one odometry step before
-    // the first step ends, and no later than the first range.
-    int64_t start_utime = dataset.odometry.empty() ? std::numeric_limits<int64_t>::max() : dataset.odometry[0].utime;
-    if (dataset.odometry.size() >= 2) start_utime -= dataset.odometry[1].utime - dataset.odometry[0].utime;
-    if (!dataset.ranges.empty()) start_utime = std::min(start_utime, dataset.ranges.front().utime);
-    if (start_utime == std::numeric_limits<int64_t>::max()) {
-      throw std::runtime_error(joinPath(dir, "odometry.csv") + ":2: no rows, and no groundtruth.csv (nothing to start from)");
-    }
-    dataset.start = Pose{};
-    dataset.start.utime = start_utime;
-    if (notes) {
-      notes->push_back(gt_file + ": none: the start pose is the origin, heading 0 (the estimates are in the start "
-                       "pose's frame), one odometry step before the first ends; nothing for roam-eval to score");
+      notes->push_back(gt_file + (path ? ": none: the start pose is the first row of " + options.odometry_from_path +
+                                             " (--odometry-from-path); nothing for roam-eval to score"
+                                       : std::string(": none: the start pose is the origin, heading 0 (the estimates "
+                                                     "are in the start pose's frame), one odometry step before the "
+                                                     "first ends; nothing for roam-eval to score")));
     }
   }
   return dataset;

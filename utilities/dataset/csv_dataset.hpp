@@ -62,8 +62,6 @@ Map loadLandmarksCsv(const std::string& path);
 std::vector<Odometry> loadOdometryCsv(const std::string& path);
 std::vector<Odometry> odometryFromPathCsv(const std::string& path, const Pose& start,
                                           double heading_offset_rad = 0.0);
-// The first row of a path CSV as a pose (heading_rad optional: 0 without it).
-Pose pathStartCsv(const std::string& path, double heading_offset_rad = 0.0);
 // Sorted by time (stable); `beacons` (landmarks.csv) decides the notes and sender_id above.
 std::vector<Range> loadRangesCsv(const std::string& path, const Map& beacons, std::vector<std::string>* notes = nullptr);
 
