@@ -80,18 +80,29 @@ std::vector<Odometry> loadOdometryCsv(const std::string& path) {
 
 namespace {
 
+// The path's first row as a pose (heading 0 where the path has none): the start pose of a run
+// without ground truth, and where odometryFromPath's first step begins.
+Pose pathStart(const CsvTable& table, double heading_offset_rad) {
+  if (table.rows() == 0) throw std::runtime_error(table.path() + ":2: no rows (expected a path)");
+  Pose start;
+  start.utime = utimeFromSeconds(table.number(0, table.column("time_s")));
+  start.x_m = table.number(0, table.column("x_m"));
+  start.y_m = table.number(0, table.column("y_m"));
+  if (table.hasColumn("heading_rad")) start.heading_rad = table.number(0, table.column("heading_rad")) + heading_offset_rad;
+  return start;
+}
+
 std::vector<Odometry> odometryFromPath(const CsvTable& table, const Pose& start, double heading_offset_rad) {
-  const std::string& path = table.path();
   const size_t t = table.column("time_s"), x = table.column("x_m"), y = table.column("y_m");
   const bool has_heading = table.hasColumn("heading_rad");
-  if (table.rows() == 0) throw std::runtime_error(path + ":2: no rows (expected a path)");
+  const Pose first = pathStart(table, heading_offset_rad);
 
   // Steps 1..n (n = rows - 1): length and direction of travel.
   const size_t n = table.rows() - 1;
   std::vector<Odometry> odometry(n);
   std::vector<double> direction_rad(n);
-  double prev_x = table.number(0, x), prev_y = table.number(0, y);
-  int64_t prev_utime = utimeFromSeconds(table.number(0, t));
+  double prev_x = first.x_m, prev_y = first.y_m;
+  int64_t prev_utime = first.utime;
   for (size_t k = 0; k < n; ++k) {
     const size_t r = k + 1;
     const int64_t utime = utimeFromSeconds(table.number(r, t));
@@ -101,8 +112,7 @@ std::vector<Odometry> odometryFromPath(const CsvTable& table, const Pose& start,
     odometry[k].utime = utime;
     odometry[k].forward_m = std::hypot(dx, dy);
     if (k == 0) {
-      direction_rad[k] = has_heading ? table.number(0, table.column("heading_rad")) + heading_offset_rad
-                                     : start.heading_rad;
+      direction_rad[k] = has_heading ? first.heading_rad : start.heading_rad;
     } else if (odometry[k].forward_m >= kMinStepForDirection_m) {
       direction_rad[k] = std::atan2(dy, dx);
     } else {
@@ -116,18 +126,6 @@ std::vector<Odometry> odometryFromPath(const CsvTable& table, const Pose& start,
     odometry[k].delta_heading_rad = wrapAngle(direction_rad[k + 1] - direction_rad[k]);
   }
   return odometry;
-}
-
-// The path's first row as the start pose of a run without ground truth (heading 0 where the path
-// has none: the direction odometryFromPath then gives its first step).
-Pose pathStart(const CsvTable& table, double heading_offset_rad) {
-  if (table.rows() == 0) throw std::runtime_error(table.path() + ":2: no rows (expected a path)");
-  Pose start;
-  start.utime = utimeFromSeconds(table.number(0, table.column("time_s")));
-  start.x_m = table.number(0, table.column("x_m"));
-  start.y_m = table.number(0, table.column("y_m"));
-  if (table.hasColumn("heading_rad")) start.heading_rad = table.number(0, table.column("heading_rad")) + heading_offset_rad;
-  return start;
 }
 
 // A field run with neither ground truth nor a path: its start is one odometry step (the first two
