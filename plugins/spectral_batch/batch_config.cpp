@@ -60,6 +60,11 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
   o.add("start_heading_sigma_rad", &c->start_heading_sigma_rad, "anchor = beacons: prior heading sigma of pose 0").min(0.0, false);
   o.add("gauge_align_m", &c->gauge_align_m,
         "anchor = start_pose: align the final rotation to calibrated odometry over this much travel (0: off)").min(0.0);
+  o.add("dead_reckoning_seed", &c->dead_reckoning_seed,
+        {{"when_in_doubt", C::DeadReckoningSeed::kWhenInDoubt}, {"always", C::DeadReckoningSeed::kAlways}},
+        "final solve: also solve from dead reckoning when_in_doubt (the first solve misfits) | always");
+  o.add("doubt_inlier_fraction", &c->doubt_inlier_fraction,
+        "dead_reckoning_seed = when_in_doubt: a first solve with fewer inliers than this fraction is in doubt").min(0.0).max(1.0);
   o.add("min_inlier_fraction", &c->min_inlier_fraction,
         "no beacon fixed: fail when fewer ranges than this fraction are inliers (0: off)").min(0.0).max(1.0);
   o.add("fallback_deadreckoning", &c->fallback_deadreckoning,

@@ -404,6 +404,21 @@ double SpectralBatchSlam::costWithNoise(const Candidate& candidate, const std::a
   return spectral_batch::solve(config_, problem, &state, true).final_cost;
 }
 
+bool SpectralBatchSlam::inDoubt(const Candidate& first) const {
+  if (config_.dead_reckoning_seed == SpectralBatchConfig::DeadReckoningSeed::kAlways || !first.summary.usable) return true;
+  const double num_ranges = static_cast<double>(first.problem.ranges.size());
+  const double odometry_cost_max = 0.5 * num_ranges;
+  const double inliers_min = config_.doubt_inlier_fraction * num_ranges;
+  const bool doubt = first.summary.odometry_cost > odometry_cost_max ||
+                     static_cast<double>(first.summary.range_inliers) < inliers_min;
+  if (config_.verbose)
+    std::cerr << "spectral_batch: the first solve's odometry cost " << first.summary.odometry_cost << " (at most "
+              << odometry_cost_max << "), inliers " << first.summary.range_inliers << " of " << first.problem.ranges.size()
+              << (doubt ? ": in doubt, the dead-reckoning seed is solved too\n"
+                        : ": not in doubt, the dead-reckoning seed is not solved (dead_reckoning_seed = always)\n");
+  return doubt;
+}
+
 void SpectralBatchSlam::solveNow(bool final) {
   const size_t num_poses = pose_utime_.size();
   std::vector<std::array<double, 3>> poses = initialPoses(final);
@@ -422,8 +437,9 @@ void SpectralBatchSlam::solveNow(bool final) {
   // Final solve: the dead-reckoning seed with the heading-rate bias that best explains the
   // ranges (a scan): a gyro drift of 0.3 deg/s curls a 30-minute path into circles no local
   // solve unwinds. Without a spectral seed or a previous solve it is the only seed, solved once;
-  // with one, both are solved and the lower robust cost, under the same (wider) noise scales,
-  // is kept (a seed dragged by outliers loses).
+  // with one, it is solved too where the first solve is in doubt (dead_reckoning_seed) and the
+  // lower robust cost, under the same (wider) noise scales, is kept (a seed dragged by outliers
+  // loses).
   double bias_rad_s = 0.0;
   std::ostringstream times;  // verbose: thread CPU per part of the solve
   double mark_s = threadCpu_s();
@@ -452,7 +468,9 @@ void SpectralBatchSlam::solveNow(bool final) {
   if (final) {
     // The odometry-alone hypothesis: dead reckoning, beacons multilaterated (robustly) from it.
     const std::vector<std::array<double, 3>> dr = spectral_batch::deadReckon(start_pose_, odometry_, dt_s_);
-    if (!dead_reckoning_only && (from_spectral || bias_rad_s != 0.0)) {
+    const bool compare = !dead_reckoning_only && (from_spectral || bias_rad_s != 0.0) && inDoubt(best);
+    setDiagnostic("dead_reckoning_seed_solved", compare ? 1.0 : 0.0);
+    if (compare) {
       const std::vector<std::array<double, 3>> dr_biased =
           spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
       Candidate from_dr = solveFrom(dr_biased, nullptr, false, true, tied, false, noise_factors_, scanned_calibration);

@@ -101,6 +101,10 @@ class SpectralBatchSlam : public Estimator {
   void alignRotationToOdometry(spectral_batch::State* state);
   // Rotates poses and beacons about pose 0 by angle_rad (a gauge move: no residual changes).
   void rotateAboutStart(spectral_batch::State* state, double angle_rad);
+  // dead_reckoning_seed = when_in_doubt: whether a first solve misfits the model (its odometry
+  // cost above half its ranges' count, or too few inliers), so that the dead-reckoning seed is
+  // solved too; the reason, when verbose, goes to stderr.
+  bool inDoubt(const Candidate& first) const;
   // The candidate's cost (final loss) with these odometry and range noise scales.
   double costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const;
   // Final solve: the odometry noise of the candidate (translation and heading scales) by variance
