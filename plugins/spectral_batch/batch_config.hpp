@@ -70,7 +70,7 @@ struct SpectralBatchConfig {
   // is expected below that; correct basins on the synthetic kinds are at 0.005-0.09 of it, a spectral
   // seed in a wrong basin at 2.9), or fewer than doubt_inlier_fraction of its ranges inliers
   // (a seed dragged by outliers explains fewer). Elsewhere the two solves end at the same cost
-  // (102 of 103 runs on the synthetic kinds), and the second costs more than the first (957 of
+  // (205 of 206 spectral-seeded runs on the sweep kinds' development seeds), and the second costs more than the first (957 of
   // 1,038 s at 10^6 steps). `always`: both, every time.
   enum class DeadReckoningSeed { kWhenInDoubt, kAlways };
   DeadReckoningSeed dead_reckoning_seed = DeadReckoningSeed::kWhenInDoubt;
