@@ -66,12 +66,12 @@ struct SpectralBatchConfig {
   // dead reckoning (with the scanned bias), the lower robust cost kept, guards against a seed in a
   // wrong basin. `when_in_doubt` (default) makes it only where the first solve does not fit the
   // model: its odometry cost above half the number of ranges (2 x the cost of a correct solve is
-  // chi-square with the problem's redundancy, at most one per range, so the odometry's share
-  // is expected below that; correct basins on the synthetic kinds are at 0.005-0.09 of it, a spectral
-  // seed in a wrong basin at 2.9), or fewer than doubt_inlier_fraction of its ranges inliers
-  // (a seed dragged by outliers explains fewer). Elsewhere the two solves end at the same cost
-  // (205 of 206 spectral-seeded runs on the sweep kinds' development seeds), and the second costs more than the first (957 of
-  // 1,038 s at 10^6 steps). `always`: both, every time.
+  // chi-square with the problem's redundancy, at most one per range, so the odometry's share is
+  // expected below that; correct basins on the sweep kinds are at 0.005-0.09 of the number of
+  // ranges, a spectral seed in a wrong basin at 2.9), or fewer than doubt_inlier_fraction of its
+  // ranges inliers (a seed dragged by outliers explains fewer). Elsewhere the two solves end at
+  // the same cost (205 of 206 spectral-seeded runs on the sweep kinds' development seeds), and the
+  // second costs more than the first (957 of 1,038 s at 10^6 steps). `always`: both, every time.
   enum class DeadReckoningSeed { kWhenInDoubt, kAlways };
   DeadReckoningSeed dead_reckoning_seed = DeadReckoningSeed::kWhenInDoubt;
   // A Gaussian range falls outside the 4-sigma inlier window once in ~16000, so a clean run's

@@ -412,7 +412,7 @@ bool SpectralBatchSlam::inDoubt(const Candidate& first) const {
   const bool doubt = first.summary.odometry_cost > odometry_cost_max ||
                      static_cast<double>(first.summary.range_inliers) < inliers_min;
   if (config_.verbose)
-    std::cerr << "spectral_batch: the first solve's odometry cost " << first.summary.odometry_cost << " (at most "
+    std::cerr << "spectral_batch: the first solve's odometry cost " << first.summary.odometry_cost << " (in doubt above "
               << odometry_cost_max << "), inliers " << first.summary.range_inliers << " of " << first.problem.ranges.size()
               << (doubt ? ": in doubt, the dead-reckoning seed is solved too\n"
                         : ": not in doubt, the dead-reckoning seed is not solved (dead_reckoning_seed = always)\n");
