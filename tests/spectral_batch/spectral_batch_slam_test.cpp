@@ -189,9 +189,8 @@ TEST(SpectralBatchSlam, BadConfigNamesTheKey) {
   expectBadValue("loss", "welsch", "expected one of huber | cauchy | tukey | none, got 'welsch'");
   expectBadValue("dead_reckoning_seed", "never", "expected one of when_in_doubt | always, got 'never'");
   expectBadValue("doubt_inlier_fraction", "1.5", "expected a value <= 1, got '1.5'");
-  SpectralBatchConfig config;
   // A core built from a struct meets the same declared checks, naming the key.
-  config = SpectralBatchConfig();
+  SpectralBatchConfig config;
   config.range_sigma_m = 0.0;
   try {
     SpectralBatchSlam slam{config};
@@ -551,17 +550,9 @@ TEST(SpectralBatchSlam, SparseRangesFromTheStartPoseTakeTheHeadingAsStated) {
   }
 }
 
-}  // namespace
-}  // namespace spectral_batch
-}  // namespace roam
-
-namespace roam {
-namespace spectral_batch {
-namespace {
-
 // The seed sweep's radio-silences kind (2 % outliers U(5, 30) m, every beacon silent twice for
 // 30 s) on its development seed 2005, where the spectral seed with surveyed beacons sits in a
-// wrong basin: the odometry bent (cost 3167 against at most 540, one per two ranges) and 87 %
+// wrong basin: the odometry bent (cost 3167 against the bound of 540, one per two ranges) and 87 %
 // of the ranges inliers.
 sim::SimConfig radioSilencesWorld(uint64_t seed) {
   sim::SimConfig world = sim::nlos30LawnMowerWorld(seed, 3000);
@@ -609,7 +600,7 @@ TEST(SpectralBatchSlam, ASpectralSeedInAWrongBasinIsInDoubtAndLosesToDeadReckoni
 
 TEST(SpectralBatchSlam, ASpectralSeedNotInDoubtIsPublishedWithoutTheSecondSolve) {
   // Development seed 2001 of the same kind, both anchors: the spectral seed's solve fits the model
-  // (odometry cost ~12 of at most 540, 98 % inliers), so the dead-reckoning seed is not solved;
+  // (odometry cost ~12 against the bound of 540, 98 % inliers), so the dead-reckoning seed is not solved;
   // solved (`always`) it ends at the same cost, and the published path agrees to a millimetre.
   if (!spectralSeedAvailable()) GTEST_SKIP() << "the spectral core is not built in";
   const Dataset data = sim::simulate(radioSilencesWorld(2001));
