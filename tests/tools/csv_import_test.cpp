@@ -1,7 +1,11 @@
 // roam::loadCsvDataset: the CSV layout of ../shared/data/plaza1, its errors, and the real data.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -271,6 +275,112 @@ TEST(CsvImport, OdometryFromPathWithoutHeadingStartsAlongTheStartPose) {
   // dir(1) = start heading 0.5, dir(2) = atan2(1, 0) = pi/2.
   EXPECT_NEAR(d.odometry[0].delta_heading_rad, M_PI / 2 - 0.5, kTolerance);
   EXPECT_NEAR(d.odometry[1].delta_heading_rad, 0.0, kTolerance);
+}
+
+// A 100 m run along a sine (0.5 m steps) whose heading column is `heading(k, direction of travel
+// of the step leaving row k)`: what --heading-offset auto measures.
+template <typename Heading>
+void writeRunWithHeadings(const roam_test::ScratchDir& dir, Heading heading) {
+  std::string gt = "time_s,x_m,y_m,heading_rad\n";
+  const int rows = 201;
+  auto x = [](int k) { return 0.5 * k; };
+  auto y = [](int k) { return 5.0 * std::sin(0.5 * k / 8.0); };
+  for (int k = 0; k < rows; ++k) {
+    const int from = std::min(k, rows - 2);  // the last row keeps the last step's direction
+    const double travel = std::atan2(y(from + 1) - y(from), x(from + 1) - x(from));
+    char row[128];
+    std::snprintf(row, sizeof row, "%.17g,%.17g,%.17g,%.17g\n", 10.0 + 0.5 * k, x(k), y(k), heading(k, travel));
+    gt += row;
+  }
+  dir.write("groundtruth.csv", gt);
+  dir.write("odometry.csv", "time_s,delta_distance_m,delta_heading_rad\n10.5,0.5,0.0\n11.0,0.5,0.0\n");
+  dir.write("landmarks.csv", "beacon_id,x_m,y_m\n0,5.0,6.0\n");
+  dir.write("ranges.csv", "time_s,beacon_id,range_m\n10.1,0,7.0\n");
+}
+
+double travelAtStart() { return std::atan2(5.0 * std::sin(0.5 / 8.0), 0.5); }
+
+TEST(CsvImport, AGroundTruthHeadingOffsetFromTheDirectionOfTravelIsMeasuredAndTakenOut) {
+  roam_test::ScratchDir dir;
+  writeRunWithHeadings(dir, [](int, double travel) { return travel + 1.0; });
+  std::vector<std::string> notes;
+  const roam::Dataset d = roam::loadCsvDataset(dir.path(), {}, &notes);
+  EXPECT_NEAR(d.start.heading_rad, travelAtStart(), 1e-9);
+  EXPECT_NEAR(d.ground_truth[100].heading_rad - d.ground_truth[0].heading_rad,
+              std::atan2(5.0 * (std::sin(50.5 / 8.0) - std::sin(50.0 / 8.0)), 0.5) - travelAtStart(), 1e-9);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_EQ(notes[0], dir.file("groundtruth.csv") + ": heading_rad is the direction of travel +1.0000 rad (+57.3 deg; "
+                      "median of 200 steps of 0.1 m or more, 100 % within 20 deg): -1.0000 rad added to every "
+                      "ground-truth heading, so the start pose faces the way the odometry moves (--heading-offset 0 "
+                      "keeps the file's headings)");
+
+  // A given offset is used as given, and nothing is measured.
+  roam::CsvImportOptions keep;
+  keep.heading_offset_rad = 0.0;
+  notes.clear();
+  EXPECT_NEAR(roam::loadCsvDataset(dir.path(), keep, &notes).start.heading_rad, travelAtStart() + 1.0, 1e-15);
+  EXPECT_TRUE(notes.empty());
+
+  const auto result = roam_test::runTool(roam_test::tool("roam-import") + " " + dir.path() + " -o " + dir.file("r.lcmlog"));
+  EXPECT_EQ(result.status, 0) << result.out;
+  EXPECT_NE(result.out.find("roam-import: note: " + dir.file("groundtruth.csv") + ": heading_rad is the direction of travel +1.0000 rad"),
+            std::string::npos) << result.out;
+  const auto kept = roam_test::runTool(roam_test::tool("roam-import") + " " + dir.path() + " -o " + dir.file("r.lcmlog") +
+                                       " --heading-offset 0");
+  EXPECT_EQ(kept.status, 0) << kept.out;
+  EXPECT_EQ(kept.out.find("note"), std::string::npos) << kept.out;
+  const auto bad = roam_test::runTool(roam_test::tool("roam-import") + " " + dir.path() + " -o " + dir.file("r.lcmlog") +
+                                      " --heading-offset east");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_EQ(bad.out, "roam-import: error: --heading-offset: expected radians or auto, got 'east'\n");
+}
+
+TEST(CsvImport, AHeadingNearOrFarFromAnySteadyOffsetIsKept) {
+  roam_test::ScratchDir dir;
+  // 0.05 rad off the direction of travel: within what a navigation solution's heading scatters
+  // by (Plaza 1: 0.017 rad); kept as it is, without a note.
+  writeRunWithHeadings(dir, [](int, double travel) { return travel + 0.05; });
+  std::vector<std::string> notes;
+  EXPECT_EQ(roam::loadCsvDataset(dir.path(), {}, &notes).start.heading_rad, travelAtStart() + 0.05);
+  EXPECT_TRUE(notes.empty());
+  // A heading that no offset turns into the direction of travel (seven directions in turn): kept,
+  // with a note naming the key.
+  writeRunWithHeadings(dir, [](int k, double travel) { return travel + 2.0 * M_PI * (k % 7) / 7.0; });
+  const roam::Dataset d = roam::loadCsvDataset(dir.path(), {}, &notes);
+  EXPECT_EQ(d.start.heading_rad, travelAtStart());
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_EQ(notes[0].rfind(dir.file("groundtruth.csv") + ": heading kept, but it is not the direction of travel: only 14 % "
+                           "of 200 steps of 0.1 m or more agree within 20 deg on one offset", 0), 0u) << notes[0];
+  EXPECT_NE(notes[0].find("--heading-offset RAD"), std::string::npos) << notes[0];
+}
+
+// Plaza 1 with its ground-truth headings turned by 1.2 rad, as a run whose heading column has
+// another zero (Plaza 1's README: Plaza 2's is offset): imported facing the way it moves, within
+// Plaza 1's own scatter (median 0.017 rad) of its own start heading.
+TEST(CsvImport, Plaza1WithItsHeadingsTurnedStartsFacingTheWayItMoves) {
+  ROAM_SKIP_WITHOUT_SHARED_DATA(kPlaza1);
+  roam_test::ScratchDir dir;
+  for (const char* name : {"odometry.csv", "ranges.csv", "landmarks.csv"}) {
+    std::filesystem::copy_file(kPlaza1 + "/" + name, dir.file(name));
+  }
+  const roam::Path truth = roam::loadPathCsv(kPlaza1 + "/groundtruth.csv");
+  std::string gt = "time_s,x_m,y_m,heading_rad\n";
+  for (const roam::Pose& p : truth) {
+    char row[160];
+    std::snprintf(row, sizeof row, "%.17g,%.17g,%.17g,%.17g\n", p.utime * 1e-6, p.x_m, p.y_m, p.heading_rad + 1.2);
+    gt += row;
+  }
+  dir.write("groundtruth.csv", gt);
+  std::vector<std::string> notes;
+  const roam::Dataset d = roam::loadCsvDataset(dir.path(), {}, &notes);
+  EXPECT_NEAR(d.start.heading_rad, truth.front().heading_rad, 0.02);
+  EXPECT_GT(std::abs(d.start.heading_rad - truth.front().heading_rad), 0.01);  // the scatter is measured too
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("heading_rad is the direction of travel +1.2166 rad"), std::string::npos) << notes[0];
+  // Plaza 1 as it is: nothing measured to take out, the start heading the file's to the bit.
+  notes.clear();
+  EXPECT_EQ(roam::loadCsvDataset(kPlaza1, {}, &notes).start.heading_rad, truth.front().heading_rad);
+  EXPECT_TRUE(notes.empty());
 }
 
 TEST(CsvImport, RealPlaza1HasTheCountsOfTheReadme) {

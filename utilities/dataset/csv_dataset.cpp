@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -143,7 +144,64 @@ int64_t fieldRunStartUtime(const Dataset& dataset, const std::string& odometry_f
   return start_utime;
 }
 
+// The offset to add to the ground truth's headings where none was given (--heading-offset auto):
+// minus the measured one where the steps agree on it and it is at least kHeadingOffsetApply_rad,
+// else 0; a note says what was measured where it is not the plain case.
+double headingOffsetToApply(const std::string& gt_file, const HeadingOffsetCheck& check, std::vector<std::string>* notes) {
+  if (check.steps == 0) return 0.0;
+  const bool steady = check.steady_fraction >= kHeadingSteadyFraction;
+  if (steady && std::abs(check.offset_rad) < kHeadingOffsetApply_rad) return 0.0;
+  char text[512];
+  if (!steady) {
+    std::snprintf(text, sizeof text,
+                  ": heading kept, but it is not the direction of travel: only %.0f %% of %d steps of %.1f m or more "
+                  "agree within %.0f deg on one offset; the odometry moves along the start pose's heading, so "
+                  "check the heading column's convention (--heading-offset RAD sets one)",
+                  100.0 * check.steady_fraction, check.steps, kHeadingCheckStep_m, kHeadingCheckBand_rad * 180.0 / M_PI);
+    if (notes) notes->push_back(gt_file + text);
+    return 0.0;
+  }
+  std::snprintf(text, sizeof text,
+                ": heading_rad is the direction of travel %+.4f rad (%+.1f deg; median of %d steps of %.1f m or more, "
+                "%.0f %% within %.0f deg): %.4f rad added to every ground-truth heading, so the start pose faces the "
+                "way the odometry moves (--heading-offset 0 keeps the file's headings)",
+                check.offset_rad, check.offset_rad * 180.0 / M_PI, check.steps, kHeadingCheckStep_m,
+                100.0 * check.steady_fraction, kHeadingCheckBand_rad * 180.0 / M_PI, -check.offset_rad);
+  if (notes) notes->push_back(gt_file + text);
+  return -check.offset_rad;
+}
+
 }  // namespace
+
+HeadingOffsetCheck measureHeadingOffset(const Path& ground_truth) {
+  std::vector<double> differences_rad;
+  for (size_t k = 0; k + 1 < ground_truth.size(); ++k) {
+    const double dx = ground_truth[k + 1].x_m - ground_truth[k].x_m, dy = ground_truth[k + 1].y_m - ground_truth[k].y_m;
+    if (std::hypot(dx, dy) < kHeadingCheckStep_m) continue;
+    differences_rad.push_back(wrapAngle(ground_truth[k].heading_rad - std::atan2(dy, dx)));
+  }
+  HeadingOffsetCheck check;
+  if (static_cast<int>(differences_rad.size()) < kHeadingCheckMinSteps) return check;
+  double sum_sin = 0.0, sum_cos = 0.0;
+  for (double d : differences_rad) {
+    sum_sin += std::sin(d);
+    sum_cos += std::cos(d);
+  }
+  const double mean_rad = std::atan2(sum_sin, sum_cos);
+  std::vector<double> about_mean(differences_rad.size());
+  for (size_t i = 0; i < differences_rad.size(); ++i) about_mean[i] = wrapAngle(differences_rad[i] - mean_rad);
+  std::vector<double> sorted = about_mean;
+  const size_t middle = sorted.size() / 2;
+  std::nth_element(sorted.begin(), sorted.begin() + middle, sorted.end());
+  const double median_about_mean = sorted[middle];
+  check.steps = static_cast<int>(differences_rad.size());
+  check.offset_rad = wrapAngle(mean_rad + median_about_mean);
+  const auto within = std::count_if(about_mean.begin(), about_mean.end(), [&](double d) {
+    return std::abs(d - median_about_mean) <= kHeadingCheckBand_rad;
+  });
+  check.steady_fraction = static_cast<double>(within) / check.steps;
+  return check;
+}
 
 std::vector<Odometry> odometryFromPathCsv(const std::string& path, const Pose& start, double heading_offset_rad) {
   return odometryFromPath(CsvTable(path), start, heading_offset_rad);
@@ -240,14 +298,21 @@ Dataset loadCsvDataset(const std::string& dir, const CsvImportOptions& options, 
   const bool has_ground_truth = std::filesystem::exists(gt_file);
   std::optional<CsvTable> path;  // --odometry-from-path, read once
   if (!options.odometry_from_path.empty()) path.emplace(options.odometry_from_path);
+  double heading_offset_rad = options.heading_offset_rad.value_or(0.0);
   if (has_ground_truth) {
-    dataset.ground_truth = loadPathCsv(gt_file, options.heading_offset_rad);
+    dataset.ground_truth = loadPathCsv(gt_file, heading_offset_rad);
     if (dataset.ground_truth.empty()) {
       throw std::runtime_error(gt_file + ":2: no rows (the start pose is the first ground-truth row)");
     }
+    if (!options.heading_offset_rad) {
+      heading_offset_rad = headingOffsetToApply(gt_file, measureHeadingOffset(dataset.ground_truth), notes);
+      if (heading_offset_rad != 0.0) {
+        for (Pose& pose : dataset.ground_truth) pose.heading_rad += heading_offset_rad;
+      }
+    }
     dataset.start = dataset.ground_truth.front();
   } else if (path) {
-    dataset.start = pathStart(*path, options.heading_offset_rad);
+    dataset.start = pathStart(*path, heading_offset_rad);
   }
   if (std::filesystem::exists(landmarks_file)) {
     dataset.beacons = loadLandmarksCsv(landmarks_file);
@@ -256,7 +321,7 @@ Dataset loadCsvDataset(const std::string& dir, const CsvImportOptions& options, 
                      "beacon from its ranges, from the start pose; anchor = beacons has no survey to hold "
                      "(spectral refuses it)");
   }
-  dataset.odometry = path ? odometryFromPath(*path, dataset.start, options.heading_offset_rad)
+  dataset.odometry = path ? odometryFromPath(*path, dataset.start, heading_offset_rad)
                           : loadOdometryCsv(odometry_file);
   dataset.ranges = loadRangesCsv(joinPath(dir, "ranges.csv"), dataset.beacons, notes);
   if (!has_ground_truth) {

@@ -10,7 +10,11 @@
 // groundtruth.csv it is the origin, heading 0, one odometry step (the first two rows' interval)
 // before the first step ends and no later than the first range (with --odometry-from-path: the
 // path's first row, its heading 0 where the path has none), and GROUND_TRUTH is empty.
-// Without landmarks.csv BEACONS is empty. Each missing optional file is a note.
+// Without landmarks.csv BEACONS is empty. Each missing optional file is a note. Where no heading
+// offset is given, the ground truth's heading is checked against its direction of travel
+// (measureHeadingOffset below): a steady offset of kHeadingOffsetApply_rad or more is taken out
+// of every ground-truth heading, and a heading that is no steady offset from it is kept; each
+// with a note.
 //
 // Ranges that a SLAM run can use but a surveyed map does not list are kept, with a note (the
 // `notes` argument; roam-import prints them): ranges to a beacon id that landmarks.csv does not
@@ -38,6 +42,7 @@
 // Errors: std::runtime_error naming file, line and column ("<file>:<line>: column 'x': ...").
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,12 +51,34 @@
 namespace roam {
 
 struct CsvImportOptions {
-  double heading_offset_rad = 0.0;   // added to every ground-truth (and path) heading
+  // Added to every ground-truth (and path) heading; none: measured from the ground truth
+  // (measureHeadingOffset below, applied where it finds a steady offset).
+  std::optional<double> heading_offset_rad;
   std::string odometry_from_path;    // "" = use DIR/odometry.csv
 };
 
 // Steps shorter than this (m) have no direction of travel (see above).
 constexpr double kMinStepForDirection_m = 1e-9;
+
+// The ground truth's heading against its own direction of travel. The layout's odometry moves
+// along the heading (delta_distance_m forward), so the start pose's heading must be the direction
+// of travel; a file whose heading column is offset from it (a compass mounted at an angle, another
+// zero: Plaza 1's README says Plaza 2's is) would turn every start-pose estimate and dead
+// reckoning by the offset. Over the steps of at least kHeadingCheckStep_m (a centimetre of
+// position error turns such a step's direction by at most 0.1 rad), offset_rad is the median of
+// wrap(heading - direction) about their circular mean, and steady_fraction the share within
+// kHeadingCheckBand_rad of it. Plaza 1: 8,432 steps, median 0.017 rad, 99.7 % within the band.
+constexpr double kHeadingCheckStep_m = 0.1;
+constexpr double kHeadingCheckBand_rad = 0.35;   // 20 degrees: a skid or a GPS heading's scatter
+constexpr int kHeadingCheckMinSteps = 50;        // fewer: nothing measured
+constexpr double kHeadingOffsetApply_rad = 0.1;  // under this the heading is the direction of travel
+constexpr double kHeadingSteadyFraction = 0.5;   // at least half the steps agree on one offset
+struct HeadingOffsetCheck {
+  int steps = 0;                 // steps measured (0: too few, nothing measured)
+  double offset_rad = 0.0;       // heading - direction of travel
+  double steady_fraction = 0.0;  // share of the steps within kHeadingCheckBand_rad of it
+};
+HeadingOffsetCheck measureHeadingOffset(const Path& ground_truth);
 
 Dataset loadCsvDataset(const std::string& dir, const CsvImportOptions& options = {},
                        std::vector<std::string>* notes = nullptr);

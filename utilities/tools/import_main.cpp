@@ -1,4 +1,4 @@
-// roam-import DIR -o LOG [--heading-offset RAD] [--odometry-from-path FILE]
+// roam-import DIR -o LOG [--heading-offset RAD|auto] [--odometry-from-path FILE]
 // roam-import FILE.pyfg -o LOG [--forward-axis x|y|auto] [--pose-interval-s S] [--robot LETTER]
 // A run in the CSV layout of ../shared/data/plaza1 (see utilities/dataset/csv_dataset.hpp) or a
 // pyfg file (utilities/dataset/pyfg_dataset.hpp) to an LCM log (see dataset_log.hpp). The format
@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <exception>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -34,7 +35,7 @@ double runSeconds(const roam::Dataset& dataset) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string dir, output, format, forward_axis = "auto";
+  std::string dir, output, format, forward_axis = "auto", heading_offset = "auto";
   double pose_interval_s = 0.0;
   std::string robot;
   roam::CsvImportOptions options;
@@ -57,8 +58,10 @@ int main(int argc, char** argv) {
       ("robot", po::value(&robot),
        "pyfg: the LETTER of the robot to read from a file of several (A, B, ...); the other robots' "
        "lines and the ranges between robots are set aside with a note")
-      ("heading-offset", po::value(&options.heading_offset_rad)->default_value(0.0),
-       "RAD added to every ground-truth heading (e.g. 3.14159265 for reversed headings)")
+      ("heading-offset", po::value(&heading_offset)->default_value(heading_offset),
+       "RAD added to every ground-truth heading (e.g. 3.14159265 for reversed headings), or auto: "
+       "measured, and applied where the ground truth's heading is its direction of travel plus a "
+       "steady offset of 0.1 rad or more (with a note)")
       ("odometry-from-path", po::value(&options.odometry_from_path),
        "FILE: derive odometry from a dead-reckoned path CSV (time_s,x_m,y_m[,heading_rad]) "
        "instead of odometry.csv");
@@ -105,6 +108,18 @@ int main(int argc, char** argv) {
     if (format != "csv") throw std::runtime_error("--format: expected csv | pyfg, got '" + format + "'");
     if (!vm["pose-interval-s"].defaulted()) throw std::runtime_error("--pose-interval-s is for pyfg, not the CSV layout");
     if (vm.count("robot")) throw std::runtime_error("--robot is for pyfg, not the CSV layout");
+    if (heading_offset != "auto") {
+      size_t used = 0;
+      double offset_rad = 0.0;
+      try {
+        offset_rad = std::stod(heading_offset, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != heading_offset.size() || !std::isfinite(offset_rad))
+        throw std::runtime_error("--heading-offset: expected radians or auto, got '" + heading_offset + "'");
+      options.heading_offset_rad = offset_rad;
+    }
     std::vector<std::string> notes;
     const roam::Dataset dataset = roam::loadCsvDataset(dir, options, &notes);
     const roam::LogWriteSummary s = roam::writeDatasetLog(output, dataset);
