@@ -64,6 +64,10 @@ void addSpectralOptions(Options& o, SpectralConfig* c) {
   o.add("outlier_drop_sigmas", &c->outlier_drop_sigmas,
         "after window retries: ranges this many robust sigmas off the solution are left out and "
         "the run solved again from the base window (0: off)").min(0.0);
+  o.add("drop_range_jumps", &c->drop_range_jumps,
+        "where the run would be refused: leave out each beacon's ranges in stretches entered by a "
+        "jump up and left by a jump down beyond the distance travelled between them (NLOS in "
+        "stretches) and solve once more");
 }
 
 }  // namespace roam::spectral

@@ -137,6 +137,7 @@ void SpectralSlam::finish() {
   setDiagnostic("window_median_residual_m", solution_->local_median_residual_m);
   setDiagnostic("window_outlier_fraction", solution_->window_outlier_fraction);
   setDiagnostic("dropped_ranges", solution_->dropped_ranges);
+  setDiagnostic("jump_dropped_ranges", solution_->jump_dropped_ranges);
   setDiagnostic("smoothing_position_sigma_m", solution_->smoothing_position_sigma_m);
   setDiagnostic("smoothing_range_sigma_m", solution_->smoothing_range_sigma_m);
   setState(EstimatorState::kFinished);

@@ -11,6 +11,7 @@
 #include "roam/estimation/median.hpp"
 #include "odometry_calibration.hpp"
 #include "odometry_smoother.hpp"
+#include "range_jumps.hpp"
 #include "smoother_ranges.hpp"
 #include "start_gauge.hpp"
 #include "thin_svd.hpp"
@@ -549,11 +550,38 @@ void smoothSolution(const SpectralProblem& problem, const SpectralConfig& config
 }  // namespace
 
 SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config) {
-  SpectralSolution solution = solveUnsmoothed(problem, config);
-  smoothSolution(problem, config, &solution);
-  if (config.anchor == SpectralAnchor::kStartPose && config.gauge_about_start)
-    gaugeAboutStart(problem, config, &solution);
-  return solution;
+  auto solve = [&config](const SpectralProblem& ranges_to_use) {
+    SpectralSolution solution = solveUnsmoothed(ranges_to_use, config);
+    smoothSolution(ranges_to_use, config, &solution);
+    if (config.anchor == SpectralAnchor::kStartPose && config.gauge_about_start)
+      gaugeAboutStart(ranges_to_use, config, &solution);
+    return solution;
+  };
+  try {
+    return solve(problem);
+  } catch (const InsufficientData&) {
+    // Before refusing: NLOS in stretches passes every range-by-range test, and leaving its
+    // stretches out (range_jumps.hpp) may leave a run that solves and passes the same self-check.
+    // Where it does not, the run's own reason stands.
+    if (!config.drop_range_jumps) throw;
+    RangeJumpBound bound;
+    bound.range_sigma_m = config.range_sigma_m;
+    const std::vector<bool> in_stretch =
+        rangesInJumpStretches(problem.path, problem.ranges, static_cast<int>(problem.beacon_ids.size()), bound);
+    SpectralProblem kept = problem;
+    kept.ranges.clear();
+    for (size_t i = 0; i < problem.ranges.size(); ++i)
+      if (!in_stretch[i]) kept.ranges.push_back(problem.ranges[i]);
+    const int dropped = static_cast<int>(problem.ranges.size() - kept.ranges.size());
+    if (dropped == 0) throw;
+    try {
+      SpectralSolution solution = solve(kept);
+      solution.jump_dropped_ranges = dropped;
+      return solution;
+    } catch (const InsufficientData&) {
+    }
+    throw;
+  }
 }
 
 }  // namespace roam::spectral

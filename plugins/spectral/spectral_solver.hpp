@@ -58,6 +58,7 @@ struct SpectralSolution {
   // Fraction of the ranges beyond 3 robust sigmas (1.4826 x the median) of the windows' fits.
   double window_outlier_fraction = 0.0;
   int dropped_ranges = 0;  // ranges left out of the final solve as far off a long-window solution
+  int jump_dropped_ranges = 0;  // ranges left out as NLOS stretches where the run was refused (drop_range_jumps)
 };
 
 InterpolationConfig interpolationConfig(const SpectralConfig& config);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "odometry_path.hpp"
 #include "roam/estimation/motion_model.hpp"
@@ -255,12 +256,13 @@ TEST(SpectralRefusal, HalfTheRangesNlosWithSurveyedBeaconsIsANoSolutionNotAFailu
   // beacons; that used to throw out of finish() as a failure of the estimator ("no positive
   // state scale", roam-run exit 1). It is a property of the data, like rank 4's refusal on the
   // same run (its windows' median residual is an outlier's): no solution, the reason in STATUS,
-  // nothing published, in batch and online modes.
+  // nothing published, in batch and online modes. (drop_range_jumps off: the refusal path itself.)
   const sim::SimRun run = sim::simulate(sim::nlos50LawnMowerWorld(1009, 3000));
   for (const bool online : {false, true}) {
     for (const int rank : {4, 7}) {
       SpectralConfig config;
       config.rank = rank;
+      config.drop_range_jumps = false;
       if (online) config.mode = SpectralMode::kOnline;
       SpectralSlam slam(config);
       feed(slam, run, true);
@@ -270,6 +272,51 @@ TEST(SpectralRefusal, HalfTheRangesNlosWithSurveyedBeaconsIsANoSolutionNotAFailu
       EXPECT_EQ(slam.lastRejection().rfind("data: ", 0), 0u) << slam.lastRejection();
       std::printf("NLOS 50 %%, seed 1009, rank %d%s: %s\n", rank, online ? ", online" : "", slam.lastRejection().c_str());
       EXPECT_TRUE(slam.takePoses().empty());
+    }
+  }
+}
+
+// Half the ranges NLOS (the sweep's nlos50 kind, development seed 306): every window's median
+// residual is an outlier's, so the run was refused in both anchors. Before refusing, the ranges in
+// stretches entered by a jump up and left by a jump down beyond the distance travelled are left out
+// (drop_range_jumps, range_jumps.hpp) and the run solved once more under the same self-check.
+// Measured: beacons (rank 7) 0.175 m, start pose (rank 4) 0.348 m; dead reckoning 1.52 m. Bounds:
+// issue 15's targets for 30 % NLOS (1.0 m beacons, 1.5 m start pose). Bit-identical when repeated.
+TEST(SpectralOutliers, HalfTheRangesNlosIsSolvedWithoutTheirJumpStretchesWhereItWouldBeRefused) {
+  const sim::SimRun run = sim::simulate(sim::nlos50LawnMowerWorld(306, 3000));
+  for (const bool start_pose : {false, true}) {
+    SpectralConfig config;
+    if (start_pose) {
+      config.anchor = SpectralAnchor::kStartPose;
+      config.rank = 4;
+    }
+    SpectralConfig refusing = config;
+    refusing.drop_range_jumps = false;
+    SpectralSlam before(refusing);
+    feed(before, run, !start_pose);
+    before.finish();
+    EXPECT_FALSE(before.solution().has_value());
+    EXPECT_EQ(before.lastRejection().rfind("data: spectral: ", 0), 0u) << before.lastRejection();
+
+    std::vector<Path> paths;
+    for (int repeat = 0; repeat < 2; ++repeat) {
+      SpectralSlam slam(config);
+      feed(slam, run, !start_pose);
+      slam.finish();
+      ASSERT_TRUE(slam.solution().has_value()) << slam.lastRejection();
+      const SpectralSolution& solution = *slam.solution();
+      const double mean_m = pathErrors(solution.trajectory, run.ground_truth).mean_m;
+      std::printf("NLOS 50 %%, seed 306, %s: %.3f m, %d of %zu ranges left out as jump stretches\n",
+                  start_pose ? "start pose" : "beacons", mean_m, solution.jump_dropped_ranges, run.ranges.size());
+      EXPECT_LT(mean_m, start_pose ? 1.5 : 1.0);
+      EXPECT_GT(solution.jump_dropped_ranges, 0);
+      EXPECT_LT(solution.jump_dropped_ranges, static_cast<int>(run.ranges.size()) / 2);
+      paths.push_back(solution.trajectory);
+    }
+    ASSERT_EQ(paths[0].size(), paths[1].size());
+    for (size_t k = 0; k < paths[0].size(); ++k) {
+      ASSERT_EQ(paths[0][k].x_m, paths[1][k].x_m) << k;
+      ASSERT_EQ(paths[0][k].y_m, paths[1][k].y_m) << k;
     }
   }
 }
