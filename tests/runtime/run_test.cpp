@@ -43,8 +43,8 @@ TEST(Run, DeadReckoningOnPlaza1MatchesAnIndependentIntegrationOfTheCsv) {
   ASSERT_EQ(result.status, 0) << result.output;
 
   // Independent: integrate odometry.csv from groundtruth.csv's first row, move then turn.
-  const fs::path data = fs::path(ROAM_SOURCE_DIR).parent_path() / "shared/data/plaza1";
-  if (!fs::exists(data / "odometry.csv")) GTEST_SKIP() << "no Plaza 1 CSVs beside the repository";
+  const fs::path data = fs::path(ROAM_SOURCE_DIR) / "data/plaza1";
+  ASSERT_TRUE(fs::exists(data / "odometry.csv")) << "no " << data << " (the repository's data/ folder)";
   std::ifstream odometry_csv(data / "odometry.csv"), truth_csv(data / "groundtruth.csv");
   std::string line;
   std::getline(truth_csv, line);

@@ -1,4 +1,4 @@
-// roam::loadCsvDataset: the CSV layout of ../shared/data/plaza1, its errors, and the real data.
+// roam::loadCsvDataset: the CSV layout of data/plaza1, its errors, and the real data.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -15,7 +15,7 @@
 namespace {
 
 constexpr double kTolerance = 1e-12;
-const std::string kPlaza1 = std::string(ROAM_SOURCE_DIR) + "/../shared/data/plaza1";
+const std::string kPlaza1 = std::string(ROAM_SOURCE_DIR) + "/data/plaza1";
 
 // A small, valid run: columns in unusual orders, an extra column, CRLF line endings in one file.
 void writeValidRun(const roam_test::ScratchDir& dir) {
@@ -358,7 +358,7 @@ TEST(CsvImport, AHeadingNearOrFarFromAnySteadyOffsetIsKept) {
 // another zero (Plaza 1's README: Plaza 2's is offset): imported facing the way it moves, within
 // Plaza 1's own scatter (median 0.017 rad) of its own start heading.
 TEST(CsvImport, Plaza1WithItsHeadingsTurnedStartsFacingTheWayItMoves) {
-  ROAM_SKIP_WITHOUT_SHARED_DATA(kPlaza1);
+  ROAM_REQUIRE_DATA(kPlaza1);
   roam_test::ScratchDir dir;
   for (const char* name : {"odometry.csv", "ranges.csv", "landmarks.csv"}) {
     std::filesystem::copy_file(kPlaza1 + "/" + name, dir.file(name));
@@ -384,7 +384,7 @@ TEST(CsvImport, Plaza1WithItsHeadingsTurnedStartsFacingTheWayItMoves) {
 }
 
 TEST(CsvImport, RealPlaza1HasTheCountsOfTheReadme) {
-  ROAM_SKIP_WITHOUT_SHARED_DATA(kPlaza1);
+  ROAM_REQUIRE_DATA(kPlaza1);
   const roam::Dataset d = roam::loadCsvDataset(kPlaza1);
   EXPECT_EQ(d.odometry.size(), 9657u);
   EXPECT_EQ(d.ranges.size(), 3529u);

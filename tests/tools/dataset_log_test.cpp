@@ -20,7 +20,7 @@
 namespace {
 
 const std::string kSource = ROAM_SOURCE_DIR;
-const std::string kPlaza1 = kSource + "/../shared/data/plaza1";
+const std::string kPlaza1 = kSource + "/data/plaza1";
 
 struct Event {
   std::string channel;
@@ -139,7 +139,7 @@ std::string bytes(const std::string& path) {
 }
 
 TEST(Plaza1Logs, AreWhatTheImportWritesToday) {
-  ROAM_SKIP_WITHOUT_SHARED_DATA(kPlaza1);
+  ROAM_REQUIRE_DATA(kPlaza1);
   roam_test::ScratchDir dir;
   roam::writeDatasetLog(dir.file("a.lcmlog"), roam::loadCsvDataset(kPlaza1));
   roam::CsvImportOptions drpath;

@@ -54,7 +54,7 @@ inline std::string tool(const std::string& name) { return std::string(ROAM_BINAR
 
 }  // namespace roam_test
 
-// The project's real data (Plaza 1, GOATS 16) sits in ../shared beside a development checkout, not
-// in the repository; a clone without it skips the tests that read it, saying so.
-#define ROAM_SKIP_WITHOUT_SHARED_DATA(path) \
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << (path) << " beside the repository (the shared data)"
+// The project's real data (Plaza 1, GOATS 16) ships in the repository's data/ folder: a test
+// that reads it fails, naming the file, if it is missing.
+#define ROAM_REQUIRE_DATA(path) \
+  ASSERT_TRUE(std::filesystem::exists(path)) << "no " << (path) << " (the repository's data/ folder)"

@@ -1,4 +1,4 @@
-// roam::loadCsvDataset — a run in the CSV layout of ../shared/data/plaza1 as a roam::Dataset.
+// roam::loadCsvDataset — a run in the CSV layout of data/plaza1 as a roam::Dataset.
 //
 // Files in DIR (columns found by header name, in any order; extra columns are ignored):
 //   odometry.csv     time_s, delta_distance_m, delta_heading_rad   (end of each step)
