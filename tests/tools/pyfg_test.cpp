@@ -12,11 +12,11 @@
 
 namespace {
 
-const std::string kGoats = std::string(ROAM_SOURCE_DIR) + "/../shared/data/goats16/goats_16.pyfg";
+const std::string kGoats = std::string(ROAM_SOURCE_DIR) + "/data/goats16/goats_16.pyfg";
 constexpr double kTolerance_m = 1e-9;
 
 TEST(Pyfg, ReadsGoats16) {
-  ROAM_SKIP_WITHOUT_SHARED_DATA(kGoats);
+  ROAM_REQUIRE_DATA(kGoats);
   const roam::PyfgImport imported = roam::loadPyfgDataset(kGoats);
   const roam::Dataset& d = imported.dataset;
   // README of the data: 201 poses, 200 odometry edges, 572 ranges, 4 beacons, 1,473 s.
@@ -48,7 +48,7 @@ TEST(Pyfg, ReadsGoats16) {
 }
 
 TEST(Pyfg, DeadReckoningIsTheCompositionOfTheFilesOwnEdges) {
-  ROAM_SKIP_WITHOUT_SHARED_DATA(kGoats);
+  ROAM_REQUIRE_DATA(kGoats);
   // Compose the file's edges by hand in the file's own frame (x' = x + cos(t) dx - sin(t) dy),
   // from its first pose, and compare with roam's motion model over the imported odometry, with
   // either body axis: the positions must agree to 1e-9 m.
@@ -92,7 +92,7 @@ TEST(Pyfg, DeadReckoningIsTheCompositionOfTheFilesOwnEdges) {
 }
 
 TEST(Pyfg, WritingAndReadingBackReproducesEveryPoseBeaconAndRange) {
-  ROAM_SKIP_WITHOUT_SHARED_DATA(kGoats);
+  ROAM_REQUIRE_DATA(kGoats);
   roam_test::ScratchDir dir;
   for (roam::ForwardAxis axis : {roam::ForwardAxis::kX, roam::ForwardAxis::kY}) {
     roam::PyfgImportOptions read_options;
@@ -341,8 +341,76 @@ TEST(Pyfg, AFileWithoutPoseTimesIsRefusedUnlessTheIntervalIsGiven) {
   EXPECT_NE(negative.out.find("--pose-interval-s: expected seconds >= 0"), std::string::npos) << negative.out;
 }
 
+TEST(Pyfg, PoseTimesInNanosecondsAreReadAsSuchWithANote) {
+  // Published team runs stamp poses in nanoseconds since 1970 (1.73e18): read as seconds that
+  // overflowed roam's microsecond clock. auto takes the largest unit that puts the latest time
+  // within 1e11 s, says so, and --time-unit chooses another.
+  roam_test::ScratchDir dir;
+  dir.write("ns.pyfg",
+            "VERTEX_SE2 1730477379787663104.000 A0 0 0 0\nVERTEX_SE2 1730477380287663104.000 A1 1 0 0\n"
+            "VERTEX_SE2 1730477380787663104.000 A2 2 0 0\nVERTEX_XY L0 5 5\n"
+            "EDGE_SE2 0 A0 A1 1 0 0 0.01 0 0 0.01 0 0.0001\nEDGE_SE2 0 A1 A2 1 0 0 0.01 0 0 0.01 0 0.0001\n"
+            "EDGE_RANGE 0 A2 L0 5.8 0.09\n");
+  const std::string file = dir.file("ns.pyfg");
+  const roam::PyfgImport imported = roam::loadPyfgDataset(file);
+  EXPECT_EQ(imported.time_unit_s, 1e-9);
+  ASSERT_EQ(imported.dataset.odometry.size(), 2u);
+  // 1730477379.787663104 s: the double holds it to 256 ns, the microsecond is exact.
+  EXPECT_EQ(imported.dataset.start.utime, 1730477379787663);
+  EXPECT_EQ(imported.dataset.odometry[0].utime - imported.dataset.start.utime, 500000);
+  EXPECT_EQ(imported.dataset.odometry[1].utime - imported.dataset.start.utime, 1000000);
+  ASSERT_EQ(imported.notes.size(), 1u);
+  EXPECT_EQ(imported.notes[0], file + ": pose times read as nanoseconds (the latest, 1.7304773807876631e+18, is beyond "
+                                      "1e11 s); --time-unit s|ms|us|ns chooses another unit");
+  // Said as seconds on purpose: refused by name, never overflowed.
+  roam::PyfgImportOptions seconds;
+  seconds.time_unit_s = 1.0;
+  try {
+    roam::loadPyfgDataset(file, seconds);
+    ADD_FAILURE() << "accepted 1.7e18 s";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("beyond 9e12 s in seconds"), std::string::npos) << error.what();
+  }
+  const auto cli = roam_test::runTool(roam_test::tool("roam-import") + " " + file + " -o " + dir.file("ns.lcmlog"));
+  EXPECT_EQ(cli.status, 0) << cli.out;
+  EXPECT_NE(cli.out.find("1.000 s from utime 1730477379787663"), std::string::npos) << cli.out;
+  EXPECT_NE(cli.out.find("pose times read as nanoseconds"), std::string::npos) << cli.out;
+  const auto bad = roam_test::runTool(roam_test::tool("roam-import") + " " + file + " -o " + dir.file("ns.lcmlog") +
+                                      " --time-unit hours");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.out.find("--time-unit: expected s | ms | us | ns | auto, got 'hours'"), std::string::npos) << bad.out;
+}
+
+TEST(Pyfg, ARobotWhoseEveryRangeIsToAnotherRobotIsSaidToHaveNone) {
+  roam_test::ScratchDir dir;
+  dir.write("team.pyfg",
+            "VERTEX_SE2 0 A0 0 0 0\nVERTEX_SE2 1 A1 1 0 0\nVERTEX_SE2 0 B0 0 5 0\nVERTEX_SE2 1 B1 1 5 0\n"
+            "EDGE_SE2 0 A0 A1 1 0 0 0.01 0 0 0.01 0 0.0001\nEDGE_SE2 0 B0 B1 1 0 0 0.01 0 0 0.01 0 0.0001\n"
+            "EDGE_RANGE 0 A0 B0 5.0 0.01\nEDGE_RANGE 0 A1 B1 5.0 0.01\n");
+  roam::PyfgImportOptions options;
+  options.robot = 'A';
+  const roam::PyfgImport imported = roam::loadPyfgDataset(dir.file("team.pyfg"), options);
+  EXPECT_TRUE(imported.dataset.ranges.empty());
+  ASSERT_FALSE(imported.notes.empty());
+  EXPECT_EQ(imported.notes.back(), dir.file("team.pyfg") + ": robot A has no range to a fixed beacon: its 2 range(s) are "
+                                                           "all to other robots (set aside); an estimator run on this "
+                                                           "log has odometry alone (dead reckoning)");
+}
+
+TEST(Pyfg, BinaryJunkInALineIsPrintedEscaped) {
+  roam_test::ScratchDir dir;
+  dir.write("junk.pyfg", std::string("VERTEX_SE2 0 A0 0 0 0\nVERTEX_SE2 1 A1 \x01\xff\x1b[2J 0 0\n"));
+  try {
+    roam::loadPyfgDataset(dir.file("junk.pyfg"));
+    ADD_FAILURE() << "accepted junk";
+  } catch (const std::runtime_error& error) {
+    EXPECT_EQ(std::string(error.what()), dir.file("junk.pyfg") +
+                                             ":2: VERTEX_SE2: x: expected a number, got '\\x01\\xFF\\x1B[2J'");
+  }
+}
+
 TEST(Pyfg, RoamImportTakesAPyfgFile) {
-  ROAM_SKIP_WITHOUT_SHARED_DATA(kGoats);
+  ROAM_REQUIRE_DATA(kGoats);
   roam_test::ScratchDir dir;
   const auto result = roam_test::runTool(roam_test::tool("roam-import") + " " + kGoats + " -o " + dir.file("g.lcmlog"));
   EXPECT_EQ(result.status, 0) << result.out;

@@ -24,7 +24,21 @@ struct Line {
   std::vector<std::string> fields;
 
   [[noreturn]] void fail(const std::string& what) const {
-    throw std::runtime_error(file + ":" + std::to_string(number) + ": " + what);
+    throw std::runtime_error(file + ":" + std::to_string(number) + ": " + printable(what));
+  }
+  // Bytes that are not printable ASCII as \xNN, so a binary line cannot garble a terminal.
+  static std::string printable(const std::string& text) {
+    std::string out;
+    for (unsigned char c : text) {
+      if (c >= 0x20 && c < 0x7f) {
+        out += static_cast<char>(c);
+      } else {
+        char hex[5];
+        std::snprintf(hex, sizeof hex, "\\x%02X", c);
+        out += hex;
+      }
+    }
+    return out;
   }
   void expectFields(size_t count, const char* layout) const {
     if (fields.size() != count) {
@@ -57,6 +71,24 @@ bool splitName(const std::string& name, int* letter, int* index) {
 }
 
 int64_t secondsToUtime(double seconds) { return static_cast<int64_t>(std::llround(seconds * 1e6)); }
+
+// The unit of the file's time stamps: `given` (seconds per unit) or, given 0, the largest of s,
+// ms, us and ns that puts the latest time within 1e11 s.
+double timeUnit(double given, double latest) {
+  if (given > 0.0) return given;
+  for (double unit : {1.0, 1e-3, 1e-6, 1e-9}) {
+    if (std::abs(latest) * unit <= 1e11) return unit;
+  }
+  return 1e-9;
+}
+
+const char* unitName(double unit_s) {
+  if (unit_s == 1.0) return "seconds";
+  if (unit_s == 1e-3) return "milliseconds";
+  if (unit_s == 1e-6) return "microseconds";
+  if (unit_s == 1e-9) return "nanoseconds";
+  return "the given unit";
+}
 
 double median(std::vector<double> values) {
   if (values.empty()) return 0.0;
@@ -101,12 +133,14 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
   };
   std::map<int, Pose> poses;  // index -> reference pose (heading as in the file)
   std::map<int, long> pose_line;
+  std::map<int, double> pose_time;  // index -> the file's time stamp, in the file's unit
   std::map<int, Beacon> beacons;
   std::vector<RawEdge> edges;
   std::vector<RawRange> ranges;
   // What PyFactorGraph writes beside odometry and ranges, which roam's estimators do not take:
   // set aside and reported in PyfgImport::notes.
   LineTally pose_priors, loop_closures, pose_landmark_edges, other_robots, inter_robot;
+  long ranges_to_robots = 0;  // of the robot read: ranges whose other end is another robot
   Line line;
   line.file = path;
   std::string text;
@@ -173,7 +207,7 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
       }
       if (poses.count(index)) line.fail("VERTEX_SE2: pose '" + line.fields[2] + "' given twice (first on line " + std::to_string(pose_line[index]) + ")");
       Pose pose;
-      pose.utime = secondsToUtime(line.number_at(1, "time"));
+      pose_time[index] = line.number_at(1, "time");
       pose.x_m = line.number_at(3, "x");
       pose.y_m = line.number_at(4, "y");
       pose.heading_rad = line.number_at(5, "theta");
@@ -230,6 +264,7 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
       if (other_a || other_b) {  // another robot's range, or one between two robots
         checkNumbers(line, 4, 6, 1);
         (b1 < 0 && b2 < 0 && !(other_a && other_b) ? inter_robot : other_robots).add(line.number);
+        if (b1 < 0 && b2 < 0 && other_a != other_b) ++ranges_to_robots;
         continue;
       }
       if (b1 < 0 && b2 < 0) {
@@ -281,6 +316,16 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
     }
     ++expected;
   }
+  double latest = 0.0;
+  for (const auto& [index, time] : pose_time) latest = std::max(latest, std::abs(time));
+  const double unit_s = timeUnit(options.time_unit_s, latest);
+  if (options.pose_interval_s <= 0.0 && latest * unit_s > 9e12) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.17g", latest);
+    throw std::runtime_error(path + ": a pose time of " + text + " is beyond 9e12 s in " + unitName(unit_s) +
+                             " (roam's clock counts microseconds in 64 bits); choose the unit with --time-unit s|ms|us|ns");
+  }
+  for (auto& [index, pose] : poses) pose.utime = secondsToUtime(pose_time.at(index) * unit_s);
   if (options.pose_interval_s > 0.0) {
     for (auto& [index, pose] : poses) pose.utime = secondsToUtime(options.pose_interval_s * (index - first));
   } else if (poses.size() > 1 && poses.begin()->second.utime == poses.rbegin()->second.utime) {
@@ -312,6 +357,13 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
 
   PyfgImport result;
   result.robot_letter = *robot;
+  result.time_unit_s = unit_s;
+  if (unit_s != 1.0 && options.time_unit_s == 0.0 && options.pose_interval_s <= 0.0) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.17g", latest);
+    result.notes.push_back(path + ": pose times read as " + unitName(unit_s) + " (the latest, " + text +
+                           ", is beyond 1e11 s); --time-unit s|ms|us|ns chooses another unit");
+  }
   auto note = [&](const LineTally& set_aside, const std::string& what, const std::string& why) {
     if (set_aside.count == 0) return;
     result.notes.push_back(path + ":" + std::to_string(set_aside.first_line) + ": set aside " +
@@ -386,6 +438,13 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
   }
   std::stable_sort(d.ranges.begin(), d.ranges.end(),
                    [](const Range& a, const Range& b) { return a.utime < b.utime; });
+  if (d.ranges.empty()) {
+    std::string why = ranges_to_robots > 0 ? ": its " + std::to_string(ranges_to_robots) +
+                                                 " range(s) are all to other robots (set aside)"
+                                           : ": the file has none";
+    result.notes.push_back(path + ": robot " + static_cast<char>(*robot) + " has no range to a fixed beacon" + why +
+                           "; an estimator run on this log has odometry alone (dead reckoning)");
+  }
   return result;
 }
 

@@ -50,6 +50,10 @@ struct PyfgImportOptions {
   // says; for files that carry no pose times (every VERTEX_SE2 at one time, which is refused
   // without it).
   double pose_interval_s = 0.0;
+  // Seconds per unit of the file's time stamps; 0: auto, the largest of 1, 1e-3, 1e-6, 1e-9 (s,
+  // ms, us, ns) that puts the file's latest time within 1e11 s (3,000 years: a Unix time in
+  // seconds fits, one in nanoseconds does not). A unit other than seconds is said in a note.
+  double time_unit_s = 0.0;
   // 0: the file's one robot (a second robot is refused, naming this option). A letter: that
   // robot's poses, odometry and ranges are read, and every line of the other robots, and every
   // measurement between two robots, is set aside with a note (a multi-robot file, one robot a run).
@@ -58,6 +62,7 @@ struct PyfgImportOptions {
 
 struct PyfgImport {
   Dataset dataset;
+  double time_unit_s = 1.0;                    // the unit of the file's times (auto resolved)
   ForwardAxis forward_axis = ForwardAxis::kX;  // the axis used (auto resolved)
   int robot_letter = 'A';
   std::vector<std::string> notes;  // "<file>:<line>: set aside N ...: why", one per kind

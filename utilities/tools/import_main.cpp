@@ -1,12 +1,13 @@
 // roam-import DIR -o LOG [--heading-offset RAD|auto] [--odometry-from-path FILE]
 // roam-import FILE.pyfg -o LOG [--forward-axis x|y|auto] [--pose-interval-s S] [--robot LETTER]
-// A run in the CSV layout of ../shared/data/plaza1 (see utilities/dataset/csv_dataset.hpp) or a
+// A run in the CSV layout of data/plaza1 (see utilities/dataset/csv_dataset.hpp) or a
 // pyfg file (utilities/dataset/pyfg_dataset.hpp) to an LCM log (see dataset_log.hpp). The format
 // is known from the argument (a folder: csv; a name ending in .pyfg: pyfg) or --format. Prints
 // a one-line summary; exit 2 with a one-line error.
 #include <boost/program_options.hpp>
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <cstdint>
 #include <cstdio>
 #include <exception>
@@ -37,7 +38,7 @@ double runSeconds(const roam::Dataset& dataset) {
 int main(int argc, char** argv) {
   std::string dir, output, format, forward_axis = "auto", heading_offset = "auto";
   double pose_interval_s = 0.0;
-  std::string robot;
+  std::string robot, time_unit = "auto";
   roam::CsvImportOptions options;
   po::options_description visible(
       "roam-import DIR -o LOG: a run in the CSV layout (odometry.csv, ranges.csv, and where there are\n"
@@ -55,6 +56,9 @@ int main(int argc, char** argv) {
       ("pose-interval-s", po::value(&pose_interval_s)->default_value(0.0),
        "pyfg: SECONDS between consecutive poses, for a file whose poses carry no times (all at one "
        "time); 0: the file's times")
+      ("time-unit", po::value(&time_unit)->default_value(time_unit),
+       "pyfg: the unit of the file's times: s | ms | us | ns | auto (the largest unit that puts the "
+       "latest time within 1e11 s: published runs stamp poses in nanoseconds)")
       ("robot", po::value(&robot),
        "pyfg: the LETTER of the robot to read from a file of several (A, B, ...); the other robots' "
        "lines and the ranges between robots are set aside with a note")
@@ -86,6 +90,9 @@ int main(int argc, char** argv) {
       if (!(pose_interval_s >= 0.0) || !std::isfinite(pose_interval_s))
         throw std::runtime_error("--pose-interval-s: expected seconds >= 0, got " + std::to_string(pose_interval_s));
       pyfg.pose_interval_s = pose_interval_s;
+      const std::map<std::string, double> units = {{"s", 1.0}, {"ms", 1e-3}, {"us", 1e-6}, {"ns", 1e-9}, {"auto", 0.0}};
+      if (!units.count(time_unit)) throw std::runtime_error("--time-unit: expected s | ms | us | ns | auto, got '" + time_unit + "'");
+      pyfg.time_unit_s = units.at(time_unit);
       if (vm.count("robot")) {
         if (robot.size() != 1) throw std::runtime_error("--robot: expected one robot letter (A, B, ...), got '" + robot + "'");
         pyfg.robot = robot[0];
@@ -108,6 +115,7 @@ int main(int argc, char** argv) {
     if (format != "csv") throw std::runtime_error("--format: expected csv | pyfg, got '" + format + "'");
     if (!vm["pose-interval-s"].defaulted()) throw std::runtime_error("--pose-interval-s is for pyfg, not the CSV layout");
     if (vm.count("robot")) throw std::runtime_error("--robot is for pyfg, not the CSV layout");
+    if (!vm["time-unit"].defaulted()) throw std::runtime_error("--time-unit is for pyfg, not the CSV layout");
     if (heading_offset != "auto") {
       size_t used = 0;
       double offset_rad = 0.0;
