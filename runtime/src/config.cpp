@@ -180,7 +180,22 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
     const auto dot = full_key.rfind('.');
     if (dot == std::string::npos || dot == 0) fail(origin, "", full_key, "expected section.key");
     const std::string section = full_key.substr(0, dot), key = full_key.substr(dot + 1);
-    if (!ini.sections.count(section)) ini.section_order.push_back(section);
+    if (!ini.sections.count(section)) {
+      // A new [estimator.NAME] needs its plugin named; any other key for a section the file does
+      // not have is a typo of a section's name, said as such (not as a missing plugin key).
+      if (section != "runtime" && key != "plugin") {
+        std::string sections;
+        for (const auto& known : ini.section_order) sections += (sections.empty() ? "" : ", ") + ("[" + known + "]");
+        std::string message = "no section [" + section + "] in " + path + " (it has " +
+                              (sections.empty() ? std::string("none") : sections) + ")";
+        std::vector<std::string> names(ini.section_order.begin(), ini.section_order.end());
+        const std::string hint = closestMatch(section, names);
+        if (!hint.empty()) message += "; did you mean '" + hint + "." + key + "'?";
+        message += " (to add an estimator, name its plugin first: --set " + section + ".plugin=NAME)";
+        fail(origin, "", "", message);
+      }
+      ini.section_order.push_back(section);
+    }
     auto& settings = ini.sections[section];
     const Setting setting{key, trim(text.substr(equals + 1)), origin};
     auto it = std::find_if(settings.begin(), settings.end(), [&](const Setting& s) { return s.key == key; });

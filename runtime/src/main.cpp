@@ -154,6 +154,20 @@ int main(int argc, char** argv) {
     return 0;
   }
 
+  if (!config.isLive()) {
+    try {
+      checkInputLog(config.input);
+    } catch (const std::exception& error) {
+      return startupError(error.what());
+    }
+  }
+  if (args.count("input") && !args.count("output") && !config.output.empty() && fs::exists(config.output)) {
+    std::fprintf(stderr,
+                 "roam-run: note: --input without --output: the results replace %s, the config's output "
+                 "(--output FILE writes elsewhere, --output \"\" nowhere)\n",
+                 config.output.c_str());
+  }
+
   std::unique_ptr<LogSink> log_sink;
   try {
     if (!config.output.empty()) log_sink = std::make_unique<LogSink>(config.output);

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <lcm/lcm-cpp.hpp>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -113,6 +114,24 @@ std::string ReplayReport::damage() const {
     text += "the log ends inside an event (cut or corrupt): replayed up to there";
   }
   return text;
+}
+
+void checkInputLog(const std::string& path) {
+  struct stat info {};
+  if (stat(path.c_str(), &info) != 0) throw std::runtime_error(path + ": cannot open the input log");
+  if (S_ISDIR(info.st_mode)) throw std::runtime_error(path + ": a folder, not an LCM log (roam-import turns a CSV folder into one)");
+  if (info.st_size == 0) throw std::runtime_error(path + ": empty file: not an LCM log (no event to replay)");
+  std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!file) throw std::runtime_error(path + ": cannot open the input log");
+  const int64_t size = static_cast<int64_t>(info.st_size);
+  // The first whole event at or after each sync word; a damaged head is skipped as replay does.
+  for (int64_t offset = 0;;) {
+    RawEvent event;
+    if (readEventAt(file.get(), offset, size, &event)) return;
+    if (!resynchronise(file.get(), offset + 1)) break;
+    offset = static_cast<int64_t>(std::ftell(file.get()));
+  }
+  throw std::runtime_error(path + ": not an LCM log (no event could be read; roam-import turns CSV and pyfg runs into logs)");
 }
 
 ReplayReport replayLog(const std::string& path, Host& host, const std::atomic<bool>& stop,

@@ -21,6 +21,10 @@ struct ReplayReport {
 // Reads every event of `path` in file order and hands it to the host (which copies it to
 // the result log). Stops early when *stop becomes true. Throws std::runtime_error if the file
 // cannot be opened. A progress bar goes to stderr if `progress` and the replay takes > 1 s.
+// Throws std::runtime_error naming `path` unless it can be opened and holds at least one whole
+// LCM event: an empty file, a text file or a pyfg file is refused before any output is opened.
+void checkInputLog(const std::string& path);
+
 ReplayReport replayLog(const std::string& path, Host& host, const std::atomic<bool>& stop,
                        bool progress);
 

@@ -47,15 +47,23 @@ TEST(BadLog, ALogWithNoRangesRunsOnOdometryAlone) {
   EXPECT_EQ(result.poses.at("deadreckoning").size(), 301u);
 }
 
-TEST(BadLog, AnEmptyLogRunsNothingAndSaysSo) {
-  const std::string empty;
-  const RunResult result = runEveryPlugin("empty", {}, "", "", &empty);
-  expectSafeRun(result, {});
-  EXPECT_NE(result.output.find("input: 0 events, 0 odometry, 0 ranges"), std::string::npos) << result.output;
-  for (const auto& plugin : pluginsInBuild()) {
-    SCOPED_TRACE("plugin " + plugin);
-    EXPECT_EQ(result.status.at(plugin).odometry_accepted, 0);
-    EXPECT_EQ(result.poses.count(plugin), 0u);  // nothing to estimate from
+// A file that is not an LCM log is refused as roam-eval refuses it (exit 2, one line naming the
+// file), before the output log is opened.
+TEST(BadLog, AFileThatIsNotAnLcmLogIsRefused) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"", "input.lcmlog: empty file: not an LCM log (no event to replay)"},
+      {"time_s,x_m,y_m\n0,1,2\n", "input.lcmlog: not an LCM log (no event could be read"},
+      {"VERTEX_SE2 0 A0 0 0 0\nEDGE_RANGE 0 A0 L0 5.0 0.5\n", "input.lcmlog: not an LCM log (no event could be read"}};
+  int index = 0;
+  for (const auto& [bytes, expected] : cases) {
+    SCOPED_TRACE("case " + std::to_string(index));
+    const std::string name = "foreign_" + std::to_string(index++);
+    const RunResult result = runEveryPlugin(name, {}, "", "", &bytes);
+    EXPECT_FALSE(result.result_log_whole) << "no result log may be written";
+    EXPECT_EQ(result.exit_status, 2) << result.output;
+    EXPECT_NE(result.output.find("roam-run: error: "), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find(expected), std::string::npos) << result.output;
+    EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
   }
 }
 

@@ -20,7 +20,9 @@ std::string loadError(const std::string& text, const std::vector<std::string>& o
     // Strip the folder so the expected strings stay short.
     std::string message = error.what();
     const std::string prefix = dir.string() + "/";
-    if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
+    for (size_t at = message.find(prefix); at != std::string::npos; at = message.find(prefix, at)) {
+      message.erase(at, prefix.size());
+    }
     return message;
   }
   return "(no error)";
@@ -62,6 +64,20 @@ TEST(Config, UrlInputsAreNotPathsAndOverridesWin) {
   EXPECT_TRUE(config.isLive());
   ASSERT_EQ(config.estimators[0].plugin_settings.size(), 1u);
   EXPECT_EQ(config.estimators[0].plugin_settings[0].origin.describe(), "--set estimator.dr.max_speed_mps=2");
+}
+
+TEST(Config, OverrideOfASectionTheFileLacksNamesTheSection) {
+  const std::string text = "[runtime]\ninput = a.lcmlog\n[estimator.ekf]\nplugin = x\n";
+  EXPECT_EQ(loadError(text, {"estimator.ekg.anchor=beacons"}),
+            "--set estimator.ekg.anchor=beacons: no section [estimator.ekg] in bad.ini (it has [runtime], "
+            "[estimator.ekf]); did you mean 'estimator.ekf.anchor'? (to add an estimator, name its plugin "
+            "first: --set estimator.ekg.plugin=NAME)");
+  // Naming a plugin adds an estimator, as before.
+  const auto dir = scratchDir("config_override_new");
+  const auto path = writeFile(dir / "ok.ini", text);
+  const RunConfig config = loadConfig(path.string(), {"estimator.b.plugin=y", "estimator.b.rank=4"}, "/p");
+  ASSERT_EQ(config.estimators.size(), 2u);
+  EXPECT_EQ(config.estimators[1].plugin, "y");
 }
 
 TEST(Config, ErrorsNameFileLineSectionAndKey) {
