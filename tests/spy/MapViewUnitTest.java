@@ -26,6 +26,7 @@ public final class MapViewUnitTest {
         stickyFitKeepsAPictureThatStillShowsEverything();
         modelNamesColoursAndErrors();
         readoutNumbers();
+        eachEstimatorsMapIsDrawnInItsOwnColour();
         System.out.println("PASSED: " + checks + " checks");
     }
 
@@ -164,6 +165,59 @@ public final class MapViewUnitTest {
         p.x = x;
         p.y = y;
         return p;
+    }
+
+    /**
+     * Two estimators, each with one mapped beacon and a short path: each beacon's cross is drawn
+     * in its estimator's colour, not in the colour of the last path drawn.
+     */
+    static void eachEstimatorsMapIsDrawnInItsOwnColour() {
+        final MapModel.Snapshot s = new MapModel.Snapshot();
+        for (int i = 0; i < 2; ++i) {
+            final MapModel.Track track = new MapModel.Track();
+            track.name = "e" + i;
+            track.colourIndex = i;
+            track.path = new double[][] {{0, 1}, {40 * i, 40 * i}, {0, 1}};
+            final roam.beacon_t b = new roam.beacon_t();
+            b.id = i;
+            b.x = 20 + 40 * i;  // crosses at (20, 20) and (60, 20), away from the paths
+            b.y = 20;
+            b.covariance = new double[] {Double.NaN, 0, 0, Double.NaN};
+            track.map.add(new MapModel.Beacon(b));
+            s.tracks.add(track);
+        }
+        final WorldTransform t = new WorldTransform(4, 40, 20, 400, 200);  // 4 px/m, centre (40, 20)
+        final MapPainter.Layer layer = MapPainter.layer(null, s, Collections.emptySet(), t);
+        final java.awt.image.BufferedImage image =
+            new java.awt.image.BufferedImage(400, 200, java.awt.image.BufferedImage.TYPE_INT_RGB);
+        final java.awt.Graphics2D g = image.createGraphics();
+        MapPainter.draw(g, s, Collections.emptySet(), t, layer);
+        g.dispose();
+        // The darkest pixel around each cross (antialiased strokes blend into white at their edges)
+        // is nearer its own estimator's colour than the other's.
+        for (int i = 0; i < 2; ++i) {
+            final int cx = (int) Math.round(t.px(20 + 40 * i)), cy = (int) Math.round(t.py(20));
+            int darkest = 0xFFFFFF;
+            for (int y = cy - 5; y <= cy + 5; ++y)
+                for (int x = cx - 5; x <= cx + 5; ++x) {
+                    final int rgb = image.getRGB(x, y) & 0xFFFFFF;
+                    if (brightness(rgb) < brightness(darkest)) darkest = rgb;
+                }
+            final int own = Palette.series(i).getRGB() & 0xFFFFFF, other = Palette.series(1 - i).getRGB() & 0xFFFFFF;
+            check("beacon cross " + i + " in its estimator's colour " + Palette.hex(Palette.series(i)) + ", got "
+                      + String.format("#%06X", darkest),
+                  colourDistance(darkest, own) < colourDistance(darkest, other));
+        }
+    }
+
+    private static int brightness(int rgb) {
+        return ((rgb >> 16) & 0xFF) + ((rgb >> 8) & 0xFF) + (rgb & 0xFF);
+    }
+
+    private static int colourDistance(int a, int b) {
+        final int dr = ((a >> 16) & 0xFF) - ((b >> 16) & 0xFF), dg = ((a >> 8) & 0xFF) - ((b >> 8) & 0xFF);
+        final int db = (a & 0xFF) - (b & 0xFF);
+        return dr * dr + dg * dg + db * db;
     }
 
     private static void checkArray(String what, double[] got, double[] want) {

@@ -271,6 +271,7 @@ final class MapPainter {
     }
 
     private static void drawMap(Graphics2D g, WorldTransform t, MapModel.Track track, Color colour) {
+        g.setColor(colour);
         for (MapModel.Beacon b : track.map) {
             if (!Double.isFinite(b.x) || !Double.isFinite(b.y)) continue;
             final double x = t.px(b.x), y = t.py(b.y);
