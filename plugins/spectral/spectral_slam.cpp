@@ -128,6 +128,7 @@ void SpectralSlam::finish() {
   solution_ = std::move(local);
   emitMap(solution_->beacons);
   setDiagnostic("solved_poses", solution_->solved_poses);
+  setDiagnostic("placed_beacons", solution_->placed_beacons);
   setDiagnostic("state_scale", solution_->state_scale);
   setDiagnostic("window_s", solution_->window_s);
   setDiagnostic("odometry_distance_scale", solution_->calibration.distance_scale);

@@ -9,6 +9,8 @@
 #include <string>
 
 #include "roam/estimation/median.hpp"
+#include "roam/estimation/multilateration.hpp"
+#include "roam/estimation/sensor_priors.hpp"
 #include "odometry_calibration.hpp"
 #include "odometry_smoother.hpp"
 #include "range_jumps.hpp"
@@ -547,6 +549,50 @@ void smoothSolution(const SpectralProblem& problem, const SpectralConfig& config
   solution.smoothing_position_sigma_m = sigma_p_m;
 }
 
+// The published map: each beacon placed from the solved path by the shared multilateration
+// (the range model's scale and offset under the shared priors, its acceptance test: enough
+// ranges, baseline and angle, no mirror rival, a sigma under 1 m), with its covariance. The
+// learned beacons of the metric upgrade divide by the fitted coefficient of |x|^2 / 2, which a
+// beacon's poorly denoised row can bring near 0 (hundreds of metres off on a loop): they stay
+// where the placement is refused, or the surveyed position where anchor = beacons gives one.
+void placeBeacons(const SpectralProblem& problem, const SpectralConfig& config, SpectralSolution* solution) {
+  const int N = static_cast<int>(problem.beacon_ids.size());
+  const Path& trajectory = solution->trajectory;
+  std::vector<std::vector<estimation::Sighting>> sightings(N);
+  const double position_var_m2 = solution->smoothing_position_sigma_m * solution->smoothing_position_sigma_m;
+  for (const RangeSample& r : problem.ranges) {
+    const int upper = problem.path.lowerBound(r.utime);
+    if (upper >= static_cast<int>(trajectory.size())) continue;
+    const int lower = std::max(0, upper - (problem.path.utime[upper] == r.utime ? 0 : 1));
+    const double span = static_cast<double>(problem.path.utime[upper] - problem.path.utime[lower]);
+    const double w = span > 0.0 ? static_cast<double>(r.utime - problem.path.utime[lower]) / span : 0.0;
+    estimation::Sighting sighting;
+    sighting.step = upper;
+    sighting.utime = r.utime;
+    sighting.x_m = (1.0 - w) * trajectory[lower].x_m + w * trajectory[upper].x_m;
+    sighting.y_m = (1.0 - w) * trajectory[lower].y_m + w * trajectory[upper].y_m;
+    sighting.position_var_m2 = position_var_m2;
+    sighting.range_m = r.range_m;
+    sighting.sigma_m = config.range_sigma_m;
+    sightings[r.beacon].push_back(sighting);
+  }
+  const estimation::MultilaterationConfig acceptance;
+  for (int n = 0; n < N && n < static_cast<int>(solution->beacons.size()); ++n) {
+    Beacon& beacon = solution->beacons[n];
+    const estimation::MultilaterationResult placed =
+        estimation::multilaterate(sightings[n], estimation::rangeBiasPrior(), acceptance);
+    if (placed.status == estimation::MultilaterationResult::Status::kReady) {
+      beacon.x_m = placed.world_m.x();
+      beacon.y_m = placed.world_m.y();
+      beacon.covariance = {placed.cov_m2(0, 0), placed.cov_m2(0, 1), placed.cov_m2(1, 0), placed.cov_m2(1, 1)};
+      ++solution->placed_beacons;
+    } else if (config.anchor == SpectralAnchor::kBeacons && problem.surveyed[n]) {
+      beacon.x_m = problem.surveyed[n]->x();
+      beacon.y_m = problem.surveyed[n]->y();
+    }
+  }
+}
+
 }  // namespace
 
 SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralConfig& config) {
@@ -555,6 +601,7 @@ SpectralSolution solveSpectral(const SpectralProblem& problem, const SpectralCon
     smoothSolution(ranges_to_use, config, &solution);
     if (config.anchor == SpectralAnchor::kStartPose && config.gauge_about_start)
       gaugeAboutStart(ranges_to_use, config, &solution);
+    placeBeacons(ranges_to_use, config, &solution);
     return solution;
   };
   try {

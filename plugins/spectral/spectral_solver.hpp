@@ -38,7 +38,8 @@ struct SpectralProblem {
 
 struct SpectralSolution {
   Path trajectory;  // one pose per pose of the problem's path
-  Map beacons;      // learned
+  Map beacons;      // placed from the solved path (placeBeacons), else learned or surveyed
+  int placed_beacons = 0;  // beacons placed from the solved path
   int solved_poses = 0;      // poses with every row of Y (the rest are bridged)
   std::vector<int> solved_pose_indices;  // which they are (sorted)
   double smoothing_position_sigma_m = 0.0;  // smooth_with_odometry's sigma_p (0: not smoothed)
