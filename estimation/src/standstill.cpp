@@ -11,6 +11,10 @@ bool Standstill::slow(const Odometry& odometry, double dt_s) const {
 }
 
 bool Standstill::confirmSlow(double rate, double rate_var) {
+  if (rate * rate > rule_.gate_chi2 * (rule_.bias_sigma_rad_s * rule_.bias_sigma_rad_s + rate_var)) {
+    reset();  // turning in place: not at rest
+    return false;
+  }
   const bool agree = previous_slow_ && std::pow(rate - previous_rate_rad_s_, 2) <= rule_.gate_chi2 * (rate_var + previous_rate_var_);
   agreeing_steps_ = agree ? agreeing_steps_ + 1 : 0;
   previous_slow_ = true;

@@ -45,6 +45,17 @@ TEST(Standstill, ASlowVehicleTurningAtChangingRatesIsNotStandingStill) {
   EXPECT_FALSE(off.confirm(makeStep(0.0, 0.0), kDt_s, kTurnVar_rad2));
 }
 
+TEST(Standstill, ARobotTurningInPlaceAtASteadyRateIsNotStandingStill) {
+  // A ground robot turning on the spot at 0.067 rad/s, steady to the gyro's noise: beyond the
+  // bias prior's gate (3 x 0.01 rad/s), so never a standstill however many steps it lasts.
+  Standstill standstill({0.02, 5, 9.0});
+  for (int k = 0; k < 20; ++k)
+    EXPECT_FALSE(standstill.confirm(makeStep(0.0, 0.067 * kDt_s), kDt_s, kTurnVar_rad2)) << k;
+  // The same robot at rest, its gyro drifting at 0.02 rad/s (2 sigma of the prior): a standstill.
+  for (int k = 1; k <= 4; ++k) EXPECT_FALSE(standstill.confirm(makeStep(0.0, 0.02 * kDt_s), kDt_s, kTurnVar_rad2)) << k;
+  EXPECT_TRUE(standstill.confirm(makeStep(0.0, 0.02 * kDt_s), kDt_s, kTurnVar_rad2));
+}
+
 }  // namespace
 }  // namespace estimation
 }  // namespace roam

@@ -9,9 +9,15 @@
 // (chi-square, 1 dof) of their noise: one pair agreeing by chance is not enough.
 //   rate_k = w_k / dt_k, var_k = var(w_k) / dt_k^2,
 //   agree_k  <=>  (rate_k - rate_{k-1})^2 <= gate_chi2 (var_k + var_{k-1}).
+// A vehicle at rest also does not turn faster than its gyro's bias can explain: a slow step
+// whose rate lies beyond the gate of the bias prior (rate^2 > gate_chi2 (sigma_b^2 + var_k),
+// sigma_b the shared prior kHeadingRateBiasPriorSigma_rad_s) is a turn in place, not a
+// standstill, however steady (a ground robot turning on the spot at 0.07 rad/s, read as a
+// bias, curls every later step).
 // Odometry only: the same on every re-run of the same steps.
 #pragma once
 
+#include "roam/estimation/sensor_priors.hpp"
 #include "roam/types.hpp"
 
 namespace roam {
@@ -21,6 +27,7 @@ struct StandstillRule {
   double max_speed_mps = 0.02;  // 0: never standing still
   int min_steps = 5;
   double gate_chi2 = 9.0;
+  double bias_sigma_rad_s = kHeadingRateBiasPriorSigma_rad_s;  // the gyro bias prior
 };
 
 class Standstill {
