@@ -223,6 +223,11 @@ int main(int argc, char** argv) {
     for (const auto& line : runNotes(slot.section.name, status, effective[i]))
       std::fprintf(stderr, "roam-run: %s\n", line.c_str());
   }
+  std::vector<EstimatorRangeUse> range_use;
+  for (const auto& slot : host->estimators())
+    if (!slot.instance->failed()) range_use.push_back({slot.section.name, slot.instance->status()});
+  for (const auto& line : rangeUseNotes(host->counters().ranges, config.range_channel, range_use))
+    std::fprintf(stderr, "roam-run: %s\n", line.c_str());
   std::vector<std::string> failures;
   for (const auto& slot : host->estimators()) {
     if (slot.instance->failed()) {

@@ -18,5 +18,25 @@ std::vector<std::string> runNotes(const std::string& estimator, const EstimatorI
   return lines;
 }
 
+std::vector<std::string> rangeUseNotes(int64_t input_ranges, const std::string& range_channel,
+                                       const std::vector<EstimatorRangeUse>& estimators) {
+  std::vector<std::string> lines;
+  if (input_ranges == 0) {
+    std::string names;
+    for (const auto& e : estimators)
+      if (e.status.odometry_accepted > 0) names += (names.empty() ? "" : ", ") + e.name;
+    if (!names.empty())
+      lines.push_back("note: the input has no ranges (channel " + range_channel +
+                      "): every estimator ran on odometry alone (" + names + ")");
+    return lines;
+  }
+  for (const auto& e : estimators) {
+    if (e.status.ranges_accepted == 0 && e.status.ranges_rejected > 0)
+      lines.push_back("note: " + e.name + " used none of its " + std::to_string(e.status.ranges_rejected) +
+                      " ranges (every one rejected): its answer is its motion model alone");
+  }
+  return lines;
+}
+
 }  // namespace runtime
 }  // namespace roam

@@ -27,6 +27,26 @@ TEST(RunNotes, NoneWithoutANote) {
   EXPECT_TRUE(runNotes("ekf", status, {}).empty());
 }
 
+TEST(RunNotes, EstimatorsWithNoRangeToWorkWithAreNamed) {
+  EstimatorInstance::Status odometry_only, all_rejected, some_used, dead_reckoning;
+  odometry_only.odometry_accepted = 100;
+  all_rejected.odometry_accepted = 100;
+  all_rejected.ranges_rejected = 56;
+  some_used.odometry_accepted = 100;
+  some_used.ranges_accepted = 50;
+  some_used.ranges_rejected = 6;
+  dead_reckoning.odometry_accepted = 100;
+  // No ranges in the input: one line naming every estimator that ran.
+  EXPECT_EQ(rangeUseNotes(0, "RANGE", {{"ekf", odometry_only}, {"dr", odometry_only}}),
+            std::vector<std::string>{"note: the input has no ranges (channel RANGE): every estimator ran on "
+                                     "odometry alone (ekf, dr)"});
+  // Ranges in the input: the estimator that rejected every one is named; dead reckoning (takes
+  // none) and one that used some are not.
+  EXPECT_EQ(rangeUseNotes(56, "RANGE", {{"online_em", all_rejected}, {"ekf", some_used}, {"dr", dead_reckoning}}),
+            std::vector<std::string>{"note: online_em used none of its 56 ranges (every one rejected): its answer "
+                                     "is its motion model alone"});
+}
+
 }  // namespace
 }  // namespace runtime
 }  // namespace roam
