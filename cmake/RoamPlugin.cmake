@@ -18,14 +18,25 @@ function(roam_add_plugin)
   set_property(GLOBAL APPEND PROPERTY ROAM_PLUGIN_TARGETS ${target})
 endfunction()
 
-# roam_add_gtest(<name> SOURCES ... LIBRARIES ...): a GoogleTest binary registered with ctest.
+# roam_add_gtest(<name> SOURCES ... LIBRARIES ... [LABELS ...] [STUDY <gtest pattern>...]):
+# a GoogleTest binary registered with ctest. The tests STUDY names (Suite.Test or Suite.*) are
+# accuracy studies, long multi-seed replays: they are labelled "study" (besides LABELS), which
+# the sanitizer pass of utilities/test leaves to the Release pass (ctest -LE study).
 function(roam_add_gtest name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LIBRARIES;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBRARIES;LABELS;STUDY" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE GTest::gtest GTest::gmock GTest::gtest_main ${ARG_LIBRARIES})
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
   target_compile_definitions(${name} PRIVATE
     ROAM_SOURCE_DIR="${CMAKE_SOURCE_DIR}" ROAM_BINARY_DIR="${CMAKE_BINARY_DIR}")
-  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 120
-    WORKING_DIRECTORY ${CMAKE_BINARY_DIR}/tests PROPERTIES LABELS "${ARG_LABELS}")
+  if(ARG_STUDY)
+    list(JOIN ARG_STUDY ":" studies)
+    gtest_discover_tests(${name} DISCOVERY_TIMEOUT 120 TEST_FILTER "-${studies}"
+      WORKING_DIRECTORY ${CMAKE_BINARY_DIR}/tests PROPERTIES LABELS "${ARG_LABELS}")
+    gtest_discover_tests(${name} DISCOVERY_TIMEOUT 120 TEST_FILTER "${studies}"
+      WORKING_DIRECTORY ${CMAKE_BINARY_DIR}/tests PROPERTIES LABELS "study;${ARG_LABELS}")
+  else()
+    gtest_discover_tests(${name} DISCOVERY_TIMEOUT 120
+      WORKING_DIRECTORY ${CMAKE_BINARY_DIR}/tests PROPERTIES LABELS "${ARG_LABELS}")
+  endif()
 endfunction()

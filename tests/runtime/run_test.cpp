@@ -266,6 +266,24 @@ TEST(Run, StartupErrorsAreOneLineWithExitStatus2) {
   EXPECT_NE(absent.output.find("absent.lcmlog: cannot open the input log"), std::string::npos) << absent.output;
 }
 
+TEST(Run, InputWithoutOutputSaysItReplacesTheConfigsOutput) {
+  const fs::path dir = scratchDir("run_input_no_output");
+  const fs::path log = testing_util::writeSmallWorldLog(dir);
+  const fs::path config = writeConfig(dir, log, "[estimator.dr]\nplugin = deadreckoning\n");
+  const auto first = run(roamRun() + " " + config.string() + " --no-progress");
+  ASSERT_EQ(first.status, 0) << first.output;
+  EXPECT_EQ(first.output.find("--input without --output"), std::string::npos) << first.output;
+  // The same config on another input: the result log it would replace is named.
+  const auto second = run(roamRun() + " " + config.string() + " --no-progress --input " + log.string());
+  ASSERT_EQ(second.status, 0) << second.output;
+  EXPECT_NE(second.output.find("roam-run: note: --input without --output: the results replace " +
+                               (dir / "result.lcmlog").string() + ", the config's output"),
+            std::string::npos) << second.output;
+  const auto elsewhere = run(roamRun() + " " + config.string() + " --no-progress --input " + log.string() +
+                             " --output " + (dir / "other.lcmlog").string());
+  EXPECT_EQ(elsewhere.output.find("--input without --output"), std::string::npos) << elsewhere.output;
+}
+
 TEST(Run, PrintConfigShowsDefaults) {
   const fs::path dir = scratchDir("run_print");
   const fs::path config = writeConfig(dir, dir / "x.lcmlog", "[estimator.dr]\nplugin = deadreckoning\n");
