@@ -187,6 +187,7 @@ int setInitialPose(roam_handle h, const roam_pose* pose) {
       return;
     }
     self.estimator->setInitialPose(fromC(*pose));
+    self.self_check.startPose(fromC(*pose));
   });
 }
 
@@ -212,7 +213,10 @@ int addOdometry(roam_handle h, const roam_odometry* odometry) {
       return;
     }
     self.odometry_check.accepted(*odometry);
-    self.estimator->addOdometry(fromC(*odometry));
+    const Odometry step = fromC(*odometry);
+    const int64_t accepted_before = self.estimator->odometryAccepted();
+    self.estimator->addOdometry(step);
+    self.self_check.odometry(step, self.estimator->odometryAccepted() > accepted_before);
   });
 }
 
@@ -232,7 +236,10 @@ int addRange(roam_handle h, const roam_range* range) {
 }
 
 int finish(roam_handle h) {
-  return guarded(h, [&](Instance& self) { self.estimator->finish(); });
+  return guarded(h, [&](Instance& self) {
+    self.estimator->finish();
+    self.self_check.finished();
+  });
 }
 
 int pollPoses(roam_handle h, const roam_pose** poses, int32_t* num_poses) {
@@ -258,6 +265,7 @@ int pollTrajectory(roam_handle h, int32_t force, int32_t* available, const roam_
   return guarded(h, [&](Instance& self) {
     Path path;
     *available = self.estimator->trajectory(force != 0, &path) ? 1 : 0;
+    if (*available) self.self_check.apply(*self.estimator, &path);
     self.path = toC(path);
     *poses = self.path.data();
     *num_poses = static_cast<int32_t>(self.path.size());
@@ -284,6 +292,10 @@ int getStatus(roam_handle h, roam_status* status) {
     for (const auto& [key, value] : estimator.diagnostics()) {
       self.diagnostic_keys.push_back(key);
       self.diagnostic_values.push_back(value);
+    }
+    if (self.self_check.replaced()) {
+      self.diagnostic_keys.push_back(SelfCheck::kNote);
+      self.diagnostic_values.push_back(1.0);
     }
     self.diagnostic_key_ptrs.clear();
     for (const auto& key : self.diagnostic_keys) self.diagnostic_key_ptrs.push_back(key.c_str());

@@ -32,8 +32,8 @@ std::vector<std::string> rangeUseNotes(int64_t input_ranges, const std::string& 
   }
   for (const auto& e : estimators) {
     if (e.status.ranges_accepted == 0 && e.status.ranges_rejected > 0)
-      lines.push_back("note: " + e.name + " used none of its " + std::to_string(e.status.ranges_rejected) +
-                      " ranges (every one rejected): its answer is its motion model alone");
+      lines.push_back("note: " + e.name + " rejected every one of its " + std::to_string(e.status.ranges_rejected) +
+                      " ranges: it had odometry alone");
   }
   return lines;
 }

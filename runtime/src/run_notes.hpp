@@ -23,7 +23,7 @@ std::vector<std::string> runNotes(const std::string& estimator, const EstimatorI
 // The estimators that had no range to work with, said at the end of every run: with none in the
 // input (on `range_channel`), one line naming every estimator that ran on odometry alone; with
 // ranges in the input, one line per estimator that took part in ranging (it accepted or
-// rejected some) but accepted none: its answer is its motion model alone. An estimator that
+// rejected some) but accepted none. An estimator that
 // takes no ranges (dead reckoning: none accepted, none rejected) is not named.
 struct EstimatorRangeUse {
   std::string name;

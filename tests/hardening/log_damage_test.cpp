@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "hardening_util.hpp"
+#include "roam/self_check.hpp"
 
 namespace roam {
 namespace hardening {
@@ -45,6 +46,39 @@ TEST(BadLog, ALogWithNoRangesRunsOnOdometryAlone) {
   EXPECT_NE(result.output.find("input: " + std::to_string(no_ranges.size()) + " events, 300 odometry, 0 ranges"),
             std::string::npos) << result.output;
   EXPECT_EQ(result.poses.at("deadreckoning").size(), 301u);
+}
+
+// The SDK's self-check (roam/self_check.hpp): an estimator that accepted no range, because the
+// log has none or because every one was rejected (max_range_m below every range), publishes dead
+// reckoning exactly as its path, and its STATUS says so. Without the rule the EKF's and online EM's
+// motion models (process noise, particles) publish paths of their own.
+TEST(BadLog, WithNoUsableRangeEveryEstimatorsPathIsDeadReckoning) {
+  Events events = cleanEvents();
+  Events no_ranges;
+  for (const Event& e : events)
+    if (e.channel != "RANGE") no_ranges.push_back(e);
+  for (int variant = 0; variant < 2; ++variant) {
+    SCOPED_TRACE(variant == 0 ? "no ranges in the log" : "every range rejected");
+    const RunResult result = variant == 0 ? runEveryPlugin("self_check_none", no_ranges)
+                                          : runEveryPlugin("self_check_rejected", events, "max_range_m = 0.001\n");
+    ASSERT_EQ(result.exit_status, 0) << result.output;
+    const Path& dead_reckoning = result.poses.at("deadreckoning");
+    ASSERT_EQ(dead_reckoning.size(), 301u);
+    for (const auto& plugin : pluginsInBuild()) {
+      SCOPED_TRACE("plugin " + plugin);
+      EXPECT_EQ(result.status.at(plugin).ranges_accepted, 0);
+      const auto it = result.trajectory.find(plugin);
+      if (it == result.trajectory.end()) continue;  // refused (spectral needs ranges): still refused
+      ASSERT_EQ(it->second.size(), dead_reckoning.size());
+      for (size_t k = 0; k < dead_reckoning.size(); ++k) {
+        ASSERT_NEAR(it->second[k].x_m, dead_reckoning[k].x_m, 1e-9) << k;
+        ASSERT_NEAR(it->second[k].y_m, dead_reckoning[k].y_m, 1e-9) << k;
+      }
+      // Said where the estimator's own path differed (online EM's particles); the EKF's and the
+      // batch's already were dead reckoning here.
+      if (plugin == "online_em") EXPECT_EQ(result.status.at(plugin).value(SelfCheck::kNote), 1.0);
+    }
+  }
 }
 
 // A file that is not an LCM log is refused as roam-eval refuses it (exit 2, one line naming the

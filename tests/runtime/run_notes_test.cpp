@@ -43,8 +43,7 @@ TEST(RunNotes, EstimatorsWithNoRangeToWorkWithAreNamed) {
   // Ranges in the input: the estimator that rejected every one is named; dead reckoning (takes
   // none) and one that used some are not.
   EXPECT_EQ(rangeUseNotes(56, "RANGE", {{"online_em", all_rejected}, {"ekf", some_used}, {"dr", dead_reckoning}}),
-            std::vector<std::string>{"note: online_em used none of its 56 ranges (every one rejected): its answer "
-                                     "is its motion model alone"});
+            std::vector<std::string>{"note: online_em rejected every one of its 56 ranges: it had odometry alone"});
 }
 
 }  // namespace

@@ -110,7 +110,9 @@ TEST(Run, TwoReplaysGiveIdenticalEstimates) {
 TEST(Run, AHeldCalibrationIsNotedWithItsKeyAtTheEnd) {
   // Ranges every 4 s: the EKF and online EM hold the heading-rate bias at 0 (0.01 rad/s x 3 x
   // 4 s = 0.12 rad > 0.08) and roam-run says so, naming each one's key; at the small world's
-  // 2 Hz neither says anything.
+  // 2 Hz neither holds it. There online EM with 20 particles places no landmark (its ranging
+  // positions lie too near a line) and rejects every range: said, and its path is dead reckoning
+  // (the SDK's self-check).
   const fs::path dir = scratchDir("run_note");
   sim::SimConfig world = testing_util::smallWorld();
   world.range_rate_hz = 0.25;
@@ -134,7 +136,13 @@ TEST(Run, AHeldCalibrationIsNotedWithItsKeyAtTheEnd) {
   const fs::path dense = writeConfig(dir, testing_util::writeSmallWorldLog(dir), estimators);
   const auto quiet = run(roamRun() + " " + dense.string() + " --no-progress");
   EXPECT_EQ(quiet.status, 0) << quiet.output;
-  EXPECT_EQ(quiet.output.find("note:"), std::string::npos) << quiet.output;
+  EXPECT_EQ(quiet.output.find("held the heading-rate bias"), std::string::npos) << quiet.output;
+  EXPECT_NE(quiet.output.find("roam-run: note: em rejected every one of its 120 ranges: it had odometry alone\n"),
+            std::string::npos) << quiet.output;
+  EXPECT_NE(quiet.output.find("roam-run: note: em used no range (none accepted): the path published is dead "
+                              "reckoning from the start pose\n"),
+            std::string::npos) << quiet.output;
+  EXPECT_EQ(quiet.output.find("note: ekf"), std::string::npos) << quiet.output;
 }
 
 TEST(Run, AnchorBeaconsWithoutASurveyIsNotedAndSpectralRefusesIt) {

@@ -28,6 +28,7 @@
 #include "roam/estimator.hpp"
 #include "roam/options.hpp"
 #include "roam/plugin_abi.h"
+#include "roam/self_check.hpp"
 
 namespace roam {
 namespace shim {
@@ -61,6 +62,7 @@ struct Instance {
   std::unique_ptr<Estimator> estimator;
   double max_range_m = kDefaultMaxRange_m;  // the SDK's own option
   OdometryCheck odometry_check;             // holds the SDK's max_speed_mps option
+  SelfCheck self_check;                     // the SDK's rule on what is published (self_check.hpp)
   std::string last_error;
   KeyValues effective;
   std::vector<roam_kv> effective_view;

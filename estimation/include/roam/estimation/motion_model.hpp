@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 
+#include "roam/se2.hpp"
 #include "roam/types.hpp"
 
 namespace roam {
@@ -34,16 +35,8 @@ struct OdometryCalibration {
 Eigen::Vector3d calibratedIncrement(const Odometry& odometry, double dt_s,
                                     const OdometryCalibration& calibration = {}, bool standing_still = false);
 
-// The pose (x, y, theta) after the calibrated increment; theta is not wrapped.
-template <typename T>
-void composeIncrement(const T* pose, const T* increment, T* next) {
-  using std::cos;
-  using std::sin;
-  const T c = cos(pose[2]), s = sin(pose[2]);
-  next[0] = pose[0] + c * increment[0] - s * increment[1];
-  next[1] = pose[1] + s * increment[0] + c * increment[1];
-  next[2] = pose[2] + increment[2];
-}
+// The pose (x, y, theta) after the calibrated increment; theta is not wrapped (roam/se2.hpp).
+using roam::composeIncrement;
 
 Eigen::Vector3d step(const Eigen::Vector3d& pose, const Eigen::Vector3d& increment);
 
