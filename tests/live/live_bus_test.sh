@@ -8,8 +8,8 @@
 # host cannot overflow (lcm-logger's holds LCM's default 30 messages, and dropped some at 20x).
 #
 # one-host:    player, roam-run and the recorder in one namespace (multicast on lo). lcm-logplayer
-#              plays logs/plaza1.lcmlog at 20x; the estimates the recorder records must score as
-#              the deterministic replay does (mean error within TOLERANCE_M), with no input lost,
+#              plays logs/plaza1.lcmlog at ROAM_LIVE_SPEED (default 20x; ctest sets 40x); the
+#              estimates the recorder records must score as the deterministic replay does (mean error within TOLERANCE_M), with no input lost,
 #              though roam-run is stopped for 1 s (SIGSTOP) 20 s into the playback.
 # three-hosts: the same, with player, runtime and logger in three namespaces joined by a bridge
 #              (multicast routed over veth, ttl=1): how roam spreads over several machines.
