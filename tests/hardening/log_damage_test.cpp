@@ -76,7 +76,9 @@ TEST(BadLog, WithNoUsableRangeEveryEstimatorsPathIsDeadReckoning) {
       }
       // Said where the estimator's own path differed (online EM's particles); the EKF's and the
       // batch's already were dead reckoning here.
-      if (plugin == "online_em") EXPECT_EQ(result.status.at(plugin).value(SelfCheck::kNote), 1.0);
+      if (plugin == "online_em") {
+        EXPECT_EQ(result.status.at(plugin).value(SelfCheck::kNote), 1.0);
+      }
     }
   }
 }
