@@ -22,6 +22,21 @@
 namespace roam::spectral {
 namespace {
 
+// The solved position at a range's time: linear between the path's poses around it; false for a
+// range beyond the trajectory (online: a prefix of the path). `step` is the pose at or after it.
+bool positionAtRange(const SpectralProblem& problem, const Path& trajectory, const RangeSample& r,
+                     Eigen::Vector2d* position_m, int* step = nullptr) {
+  const int upper = problem.path.lowerBound(r.utime);
+  if (upper >= static_cast<int>(trajectory.size())) return false;
+  const int lower = std::max(0, upper - (problem.path.utime[upper] == r.utime ? 0 : 1));
+  const double span = static_cast<double>(problem.path.utime[upper] - problem.path.utime[lower]);
+  const double w = span > 0.0 ? static_cast<double>(r.utime - problem.path.utime[lower]) / span : 0.0;
+  *position_m << (1.0 - w) * trajectory[lower].x_m + w * trajectory[upper].x_m,
+      (1.0 - w) * trajectory[lower].y_m + w * trajectory[upper].y_m;
+  if (step != nullptr) *step = upper;
+  return true;
+}
+
 // Steps 1-3 on one dead-reckoned path, config.window_s already the effective window.
 // Per range, in problem.ranges order: range - scale_n |p(t) - m| - offset_n for the solution, p(t)
 // linear between the solved poses, m the surveyed beacon (anchor = beacons) or the learned one;
@@ -33,13 +48,8 @@ std::vector<double> rangeResiduals(const SpectralProblem& problem, const Spectra
   std::vector<std::vector<size_t>> index(N);
   for (size_t i = 0; i < problem.ranges.size(); ++i) {
     const RangeSample& r = problem.ranges[i];
-    const int upper = problem.path.lowerBound(r.utime);
-    if (upper >= static_cast<int>(trajectory.size())) continue;  // online: a prefix of the path
-    const int lower = std::max(0, upper - (problem.path.utime[upper] == r.utime ? 0 : 1));
-    const double span = static_cast<double>(problem.path.utime[upper] - problem.path.utime[lower]);
-    const double w = span > 0.0 ? static_cast<double>(r.utime - problem.path.utime[lower]) / span : 0.0;
-    const Eigen::Vector2d p((1.0 - w) * trajectory[lower].x_m + w * trajectory[upper].x_m,
-                            (1.0 - w) * trajectory[lower].y_m + w * trajectory[upper].y_m);
+    Eigen::Vector2d p;
+    if (!positionAtRange(problem, trajectory, r, &p)) continue;
     Eigen::Vector2d m = learned_beacons.col(r.beacon);
     if (config.anchor == SpectralAnchor::kBeacons && problem.surveyed[r.beacon]) m = *problem.surveyed[r.beacon];
     range_m[r.beacon].push_back(r.range_m);
@@ -561,16 +571,14 @@ void placeBeacons(const SpectralProblem& problem, const SpectralConfig& config, 
   std::vector<std::vector<estimation::Sighting>> sightings(N);
   const double position_var_m2 = solution->smoothing_position_sigma_m * solution->smoothing_position_sigma_m;
   for (const RangeSample& r : problem.ranges) {
-    const int upper = problem.path.lowerBound(r.utime);
-    if (upper >= static_cast<int>(trajectory.size())) continue;
-    const int lower = std::max(0, upper - (problem.path.utime[upper] == r.utime ? 0 : 1));
-    const double span = static_cast<double>(problem.path.utime[upper] - problem.path.utime[lower]);
-    const double w = span > 0.0 ? static_cast<double>(r.utime - problem.path.utime[lower]) / span : 0.0;
+    Eigen::Vector2d p;
+    int step = 0;
+    if (!positionAtRange(problem, trajectory, r, &p, &step)) continue;
     estimation::Sighting sighting;
-    sighting.step = upper;
+    sighting.step = step;
     sighting.utime = r.utime;
-    sighting.x_m = (1.0 - w) * trajectory[lower].x_m + w * trajectory[upper].x_m;
-    sighting.y_m = (1.0 - w) * trajectory[lower].y_m + w * trajectory[upper].y_m;
+    sighting.x_m = p.x();
+    sighting.y_m = p.y();
     sighting.position_var_m2 = position_var_m2;
     sighting.range_m = r.range_m;
     sighting.sigma_m = config.range_sigma_m;
