@@ -159,6 +159,7 @@ roam_handle create(Factory factory, const roam_kv* config, int32_t num_config,
     self->effective = options.effective();
     for (const auto& [key, value] : self->effective) {
       self->effective_view.push_back(roam_kv{key.c_str(), value.c_str()});
+      if (key == "anchor") self->self_check.anchor(value);
     }
     return self.release();
   } catch (const ConfigError& config_error) {
@@ -202,6 +203,7 @@ int setBeacons(roam_handle h, const roam_beacon* beacons, int32_t num_beacons) {
       map.push_back(fromC(beacons[i]));
     }
     self.estimator->setBeacons(map);
+    self.self_check.surveyed(map);
   });
 }
 
@@ -231,7 +233,9 @@ int addRange(roam_handle h, const roam_range* range) {
       self.estimator->rejectRange("longer than max_range_m");
       return;
     }
-    self.estimator->addRange(fromC(*range));
+    const Range accepted = fromC(*range);
+    self.estimator->addRange(accepted);
+    self.self_check.range(accepted);
   });
 }
 
@@ -296,6 +300,10 @@ int getStatus(roam_handle h, roam_status* status) {
     if (self.self_check.replaced()) {
       self.diagnostic_keys.push_back(SelfCheck::kNote);
       self.diagnostic_values.push_back(1.0);
+    }
+    for (const auto& [key, value] : self.self_check.diagnostics()) {
+      self.diagnostic_keys.push_back(key);
+      self.diagnostic_values.push_back(value);
     }
     self.diagnostic_key_ptrs.clear();
     for (const auto& key : self.diagnostic_keys) self.diagnostic_key_ptrs.push_back(key.c_str());

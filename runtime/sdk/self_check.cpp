@@ -1,6 +1,9 @@
 #include "roam/self_check.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <set>
 
 #include "roam/se2.hpp"
 
@@ -33,15 +36,98 @@ void SelfCheck::odometry(const Odometry& step, bool accepted) {
   dead_reckoned_.push_back(out);
 }
 
+void SelfCheck::range(const Range& range) {
+  ranges_.push_back(RangeRecord{range.utime, range.beacon_id, range.range_m});
+}
+
+namespace {
+
+bool samePath(const Path& a, const Path& b) {
+  bool same = a.size() == b.size();
+  for (size_t k = 0; same && k < a.size(); ++k)
+    same = std::abs(a[k].x_m - b[k].x_m) <= 1e-9 && std::abs(a[k].y_m - b[k].y_m) <= 1e-9;
+  return same;
+}
+
+std::string metres(double value_m) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.3g m", value_m);
+  return text;
+}
+
+}  // namespace
+
+void SelfCheck::checkAnchor() {
+  if (anchor_ != "beacons" || surveyed_.empty()) return;
+  std::set<int> ranged;
+  for (const auto& r : ranges_) ranged.insert(r.beacon_id);
+  double mx = 0, my = 0;
+  std::vector<const Beacon*> used;
+  for (const Beacon& b : surveyed_)
+    if (ranged.count(b.id)) {
+      used.push_back(&b);
+      mx += b.x_m;
+      my += b.y_m;
+    }
+  const size_t n = used.size();
+  if (n > 0) {
+    mx /= static_cast<double>(n);
+    my /= static_cast<double>(n);
+  }
+  double sxx = 0, sxy = 0, syy = 0;
+  for (const Beacon* b : used) {
+    sxx += (b->x_m - mx) * (b->x_m - mx);
+    sxy += (b->x_m - mx) * (b->y_m - my);
+    syy += (b->y_m - my) * (b->y_m - my);
+  }
+  // On one line: the smaller spread is under 1e-3 of the larger (1 mm across 1 m).
+  const bool on_a_line = sxx * syy - sxy * sxy <= 1e-6 * (sxx + syy) * (sxx + syy);
+  std::string free_part;
+  if (n == 0) free_part = "no surveyed beacon was ranged: the frame is not fixed";
+  else if (n == 1) free_part = "one surveyed beacon was ranged: the frame's rotation about it is free";
+  else if (on_a_line) free_part = std::to_string(n) + " surveyed beacons ranged, all on one line: the frame's reflection across it is free";
+  else return;
+  diagnostics_.emplace_back(std::string(kAnchorNote) + ", but " + free_part +
+                                " (at least three, not on one line, fix it); anchor = start_pose uses the start pose",
+                            1.0);
+}
+
+void SelfCheck::decide(const Estimator& estimator, const Path& path) {
+  decided_ = true;
+  checkAnchor();
+  if (!have_start_) return;
+  if (estimator.rangesAccepted() == 0) {
+    use_dead_reckoning_ = true;
+    return;
+  }
+  if (path.empty() || dead_reckoned_.size() < 2) return;
+  const int64_t begin = std::max(path.front().utime, dead_reckoned_.front().utime);
+  const int64_t end = std::min(path.back().utime, dead_reckoned_.back().utime);
+  const std::vector<RangeRecord> scored = rangesToScore(ranges_, begin, end);
+  if (scored.empty()) return;
+  const RangeFit of_path = rangeFit(path, scored);
+  const RangeFit of_dead_reckoning = rangeFit(dead_reckoned_, scored);
+  diagnostics_.emplace_back(kRangesScored, static_cast<double>(of_path.ranges));
+  diagnostics_.emplace_back(kPathFit, of_path.mean_abs_residual_m);
+  diagnostics_.emplace_back(kDeadReckoningFit, of_dead_reckoning.mean_abs_residual_m);
+  // Worse beyond rounding (a path equal to dead reckoning but for the last bits is not worse).
+  if (of_path.mean_abs_residual_m > of_dead_reckoning.mean_abs_residual_m * (1.0 + 1e-9) + 1e-12) {
+    use_dead_reckoning_ = true;
+    diagnostics_.emplace_back(std::string(kWorseNote) + " than dead reckoning does (mean |range residual| " +
+                                  metres(of_path.mean_abs_residual_m) + " against " +
+                                  metres(of_dead_reckoning.mean_abs_residual_m) + " over " +
+                                  std::to_string(of_path.ranges) +
+                                  " ranges): the path published is dead reckoning from the start pose",
+                              1.0);
+  }
+}
+
 bool SelfCheck::apply(const Estimator& estimator, Path* path) {
-  if (!finished_ || !have_start_ || estimator.rangesAccepted() > 0) return false;
-  bool same = path->size() == dead_reckoned_.size();
-  for (size_t k = 0; same && k < path->size(); ++k)
-    same = std::abs((*path)[k].x_m - dead_reckoned_[k].x_m) <= 1e-9 &&
-           std::abs((*path)[k].y_m - dead_reckoned_[k].y_m) <= 1e-9;
-  if (same) return false;  // dead reckoning already (the deadreckoning plugin)
+  if (!finished_) return false;
+  if (!decided_) decide(estimator, *path);
+  if (!use_dead_reckoning_ || samePath(*path, dead_reckoned_)) return false;
   *path = dead_reckoned_;
-  replaced_ = true;
+  if (estimator.rangesAccepted() == 0) replaced_ = true;
   return true;
 }
 

@@ -9,11 +9,28 @@
 // replaced by that, and STATUS says so (the diagnostic kNote). An estimator that refused to
 // answer still refuses; one that never had a start pose before its first step is left as it is
 // (dead reckoning has no frame then).
+//
+// A path the ranges do not support: an estimator that accepted ranges departs from dead
+// reckoning to explain them; a departure that explains them worse than dead reckoning does
+// (roam/range_fit.hpp: the mean |range residual| over the same ranges, each path with the beacons
+// that fit it best) is not supported by any measurement it was given, and dead reckoning from the
+// start pose is published in its place, with a note giving both figures. A path that explains the
+// ranges as well or better is published as it is, and STATUS carries both figures either way
+// (kPathFit, kDeadReckoningFit). Ranges outside either path's time span, and those of a beacon
+// ranged fewer than three times within it, are not counted.
+//
+// Anchor observability: with anchor = beacons, the surveyed beacons fix the frame only if at
+// least three of them, not on one line, were ranged; fewer leave its rotation (one) or its
+// reflection (two, or any number on one line) free, and a note says so.
 #pragma once
 
 #include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "roam/estimator.hpp"
+#include "roam/range_fit.hpp"
 #include "roam/types.hpp"
 
 namespace roam {
@@ -22,6 +39,19 @@ class SelfCheck {
  public:
   static constexpr const char* kNote =
       "note: used no range (none accepted): the path published is dead reckoning from the start pose";
+  // Prefix of the note of a path replaced because dead reckoning explains the ranges better.
+  static constexpr const char* kWorseNote = "note: self-check: its path explained the ranges worse";
+  static constexpr const char* kPathFit = "self-check: mean |range residual| of its path (m)";
+  static constexpr const char* kDeadReckoningFit = "self-check: mean |range residual| of dead reckoning (m)";
+  static constexpr const char* kRangesScored = "self-check: ranges scored";
+  static constexpr const char* kAnchorNote = "note: anchor = beacons";
+
+  // The estimator's `anchor` key (effective config), if it has one.
+  void anchor(const std::string& value) { anchor_ = value; }
+  // Surveyed beacons (BEACONS) the estimator was given.
+  void surveyed(const Map& beacons) { surveyed_ = beacons; }
+  // A range the SDK's checks passed to the estimator (whether it used it or not).
+  void range(const Range& range);
 
   // The start pose the estimator was given; the first one before any odometry counts.
   void startPose(const Pose& start);
@@ -33,6 +63,8 @@ class SelfCheck {
   // reckoning under the rule above). True if it was replaced.
   bool apply(const Estimator& estimator, Path* path);
   bool replaced() const { return replaced_; }
+  // What the check found, as STATUS diagnostics: the figures above and any note ("note: ..." -> 1).
+  const std::vector<std::pair<std::string, double>>& diagnostics() const { return diagnostics_; }
 
  private:
   bool have_start_ = false;
@@ -40,6 +72,15 @@ class SelfCheck {
   Path dead_reckoned_;
   bool finished_ = false;
   bool replaced_ = false;
+  bool decided_ = false;  // the end-of-run checks ran (once)
+  bool use_dead_reckoning_ = false;
+  std::string anchor_;
+  Map surveyed_;
+  std::vector<RangeRecord> ranges_;
+  std::vector<std::pair<std::string, double>> diagnostics_;
+
+  void decide(const Estimator& estimator, const Path& path);
+  void checkAnchor();
 };
 
 }  // namespace roam
