@@ -197,7 +197,7 @@ TEST(Pyfg, WhatPyFactorGraphWritesBesideOdometryAndRangesIsSetAsideWithANote) {
       "EDGE_SE2 1.0 A0 A1 1 0 0.1 0.01 0 0 0.01 0 0.0001\nEDGE_SE2 2.0 A1 A2 1 0.05 0.1 0.01 0 0 0.01 0 0.0001\n";
   const std::string closures =
       "EDGE_SE2 3.0 A2 A0 -2 0 -0.2 0.01 0 0 0.01 0 0.04\nEDGE_SE2 4.0 A0 A2 2 0.1 0.2 0.01 0 0 0.01 0 0.04\n"
-      "EDGE_SE2_XY 2.0 A2 L0 3 4.9 0.01 0 0.01\n";
+      "EDGE_SE2 3.5 A1 A0 -1 0 -0.1 0.01 0 0 0.01 0 0.04\n";
   const std::string ranges = "EDGE_RANGE 1.0 A1 L0 6.4 0.09\nEDGE_RANGE 2.0 A2 L0 5.8 0.09\n";
   dir.write("plain.pyfg", poses + odometry + ranges);
   dir.write("full.pyfg", poses + prior + odometry + closures + ranges);
@@ -213,14 +213,12 @@ TEST(Pyfg, WhatPyFactorGraphWritesBesideOdometryAndRangesIsSetAsideWithANote) {
   }
   ASSERT_EQ(full.dataset.ranges.size(), 2u);
   EXPECT_EQ(full.dataset.ranges[1].range_m, plain.dataset.ranges[1].range_m);
-  ASSERT_EQ(full.notes.size(), 3u);
+  ASSERT_EQ(full.notes.size(), 2u);
   const std::string file = dir.file("full.pyfg");
   EXPECT_EQ(full.notes[0], file + ":5: set aside 1 pose prior(s) (VERTEX_SE2:PRIOR): the first VERTEX_SE2 is the start "
                                   "pose, and roam's estimators take no absolute fix");
-  EXPECT_EQ(full.notes[1], file + ":8: set aside 2 loop closure(s) (EDGE_SE2 between poses that are not consecutive) "
+  EXPECT_EQ(full.notes[1], file + ":8: set aside 3 loop closure(s) (EDGE_SE2 between poses that are not consecutive) "
                                   "(the first here): roam's estimators take odometry and ranges");
-  EXPECT_EQ(full.notes[2], file + ":10: set aside 1 pose-landmark measurement(s) (EDGE_SE2_XY): roam's estimators "
-                                  "take ranges only");
   const auto result = roam_test::runTool(roam_test::tool("roam-import") + " " + file + " -o " + dir.file("f.lcmlog"));
   EXPECT_EQ(result.status, 0) << result.out;
   EXPECT_NE(result.out.find("(2 odometry, 2 ranges, 3 ground truth, 1 beacons)"), std::string::npos) << result.out;
@@ -395,6 +393,65 @@ TEST(Pyfg, ARobotWhoseEveryRangeIsToAnotherRobotIsSaidToHaveNone) {
   EXPECT_EQ(imported.notes.back(), dir.file("team.pyfg") + ": robot A has no range to a fixed beacon: its 2 range(s) are "
                                                            "all to other robots (set aside); an estimator run on this "
                                                            "log has odometry alone (dead reckoning)");
+}
+
+// A landmark seen from a pose (EDGE_SE2_XY: its position in the robot's frame, as MR.CLAM's
+// camera sightings are published) is a range with a bearing to that beacon: range |d|, bearing
+// atan2(lateral, forward) in roam's body frame, sigma the covariance along d.
+TEST(Pyfg, ALandmarkSightingIsARangeWithABearing) {
+  roam_test::ScratchDir dir;
+  const std::string head = "VERTEX_XY L3 5 5\nVERTEX_SE2 0 A0 0 0 0\nVERTEX_SE2 1 A1 1 0 0.5\n"
+                           "EDGE_SE2 1 A0 A1 1 0 0.5 0.01 0 0 0.01 0 0.0001\n";
+  dir.write("x.pyfg", head + "EDGE_SE2_XY 1 A1 L3 3 4 0.25 0 0.25\nEDGE_SE2_XY 0 A0 L3 0 2 0.09 0 0.25\n");
+  const roam::PyfgImport x = roam::loadPyfgDataset(dir.file("x.pyfg"));
+  EXPECT_TRUE(x.notes.empty());
+  ASSERT_EQ(x.dataset.ranges.size(), 2u);
+  const roam::Range& first = x.dataset.ranges[0];  // the A0 one, by time
+  EXPECT_EQ(first.utime, 0);
+  EXPECT_EQ(first.beacon_id, 3);
+  EXPECT_DOUBLE_EQ(first.range_m, 2.0);
+  EXPECT_TRUE(first.has_bearing);
+  EXPECT_DOUBLE_EQ(first.bearing_rad, M_PI / 2);  // straight to the left
+  EXPECT_DOUBLE_EQ(first.sigma_m, 0.5);           // along d = +y: c22
+  const roam::Range& second = x.dataset.ranges[1];
+  EXPECT_EQ(second.utime, 1000000);
+  EXPECT_DOUBLE_EQ(second.range_m, 5.0);
+  EXPECT_DOUBLE_EQ(second.bearing_rad, std::atan2(4.0, 3.0));
+  EXPECT_DOUBLE_EQ(second.sigma_m, 0.5);
+  // A +y-forward body frame: forward = dy, lateral = -dx.
+  roam::PyfgImportOptions y_forward;
+  y_forward.forward_axis = roam::ForwardAxis::kY;
+  const roam::PyfgImport y = roam::loadPyfgDataset(dir.file("x.pyfg"), y_forward);
+  EXPECT_DOUBLE_EQ(y.dataset.ranges[0].bearing_rad, 0.0);
+  EXPECT_DOUBLE_EQ(y.dataset.ranges[1].bearing_rad, std::atan2(-3.0, 4.0));
+  // Written back as sightings, read back as the same ranges and bearings.
+  for (const auto& [axis, imported] : {std::make_pair(roam::ForwardAxis::kX, x), std::make_pair(roam::ForwardAxis::kY, y)}) {
+    roam::PyfgWriteOptions write_options;
+    write_options.forward_axis = axis;
+    roam::writePyfg(dir.file("copy.pyfg"), imported.dataset, write_options);
+    roam::PyfgImportOptions read_options;
+    read_options.forward_axis = axis;
+    const roam::PyfgImport copy = roam::loadPyfgDataset(dir.file("copy.pyfg"), read_options);
+    ASSERT_EQ(copy.dataset.ranges.size(), 2u);
+    for (size_t k = 0; k < 2; ++k) {
+      EXPECT_TRUE(copy.dataset.ranges[k].has_bearing);
+      EXPECT_NEAR(copy.dataset.ranges[k].range_m, imported.dataset.ranges[k].range_m, 1e-12);
+      EXPECT_NEAR(copy.dataset.ranges[k].bearing_rad, imported.dataset.ranges[k].bearing_rad, 1e-12);
+      EXPECT_NEAR(copy.dataset.ranges[k].sigma_m, imported.dataset.ranges[k].sigma_m, 1e-12);
+    }
+  }
+  // What cannot be a range is refused by line.
+  dir.write("zero.pyfg", head + "EDGE_SE2_XY 1 A1 L3 0 0 0.25 0 0.25\n");
+  dir.write("cov.pyfg", head + "EDGE_SE2_XY 1 A1 L3 3 4 0.25 1 0.25\n");
+  for (const auto& [name, message] : {std::make_pair(std::string("zero.pyfg"), std::string(":5: EDGE_SE2_XY: the beacon is at the pose")),
+                                      std::make_pair(std::string("cov.pyfg"), std::string(":5: EDGE_SE2_XY: covariance is not positive semi-definite"))}) {
+    try {
+      roam::loadPyfgDataset(dir.file(name));
+      ADD_FAILURE() << name << " was read";
+    } catch (const std::runtime_error& error) {
+      EXPECT_NE(std::string(error.what()).find(dir.file(name) + message), std::string::npos) << error.what();
+    }
+  }
 }
 
 TEST(Pyfg, BinaryJunkInALineIsPrintedEscaped) {

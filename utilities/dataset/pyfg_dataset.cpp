@@ -110,6 +110,14 @@ struct RawRange {
   double range_m, variance;
 };
 
+// EDGE_SE2_XY: a beacon's position (dx, dy) in the robot's frame at a pose, and its covariance.
+struct RawSighting {
+  long line;
+  int pose;
+  int beacon;
+  double dx, dy, c11, c12, c22;
+};
+
 }  // namespace
 
 PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& options) {
@@ -137,9 +145,10 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
   std::map<int, Beacon> beacons;
   std::vector<RawEdge> edges;
   std::vector<RawRange> ranges;
+  std::vector<RawSighting> sightings;
   // What PyFactorGraph writes beside odometry and ranges, which roam's estimators do not take:
   // set aside and reported in PyfgImport::notes.
-  LineTally pose_priors, loop_closures, pose_landmark_edges, other_robots, inter_robot;
+  LineTally pose_priors, loop_closures, other_robots, inter_robot;
   long ranges_to_robots = 0;  // of the robot read: ranges whose other end is another robot
   Line line;
   line.file = path;
@@ -291,10 +300,20 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
     } else if (type == "EDGE_SE2_XY") {
       line.expectFields(9, "time pose beacon dx dy and 3 covariance values");
       if (setAsideIfOtherRobot(line, line.fields[2], "EDGE_SE2_XY: pose", 4, 9, 2)) continue;
-      poseIndex(line, line.fields[2], "EDGE_SE2_XY: pose");
-      if (beaconIndex(line, line.fields[3]) < 0) line.fail("EDGE_SE2_XY: '" + line.fields[3] + "' is not a beacon name (e.g. L3)");
-      checkNumbers(line, 4, 9, 2);
-      pose_landmark_edges.add(line.number);
+      RawSighting sighting;
+      sighting.line = line.number;
+      sighting.pose = poseIndex(line, line.fields[2], "EDGE_SE2_XY: pose");
+      sighting.beacon = beaconIndex(line, line.fields[3]);
+      if (sighting.beacon < 0) line.fail("EDGE_SE2_XY: '" + line.fields[3] + "' is not a beacon name (e.g. L3)");
+      sighting.dx = line.number_at(4, "dx");
+      sighting.dy = line.number_at(5, "dy");
+      sighting.c11 = line.number_at(6, "covariance");
+      sighting.c12 = line.number_at(7, "covariance");
+      sighting.c22 = line.number_at(8, "covariance");
+      if (!(std::hypot(sighting.dx, sighting.dy) > 0.0)) line.fail("EDGE_SE2_XY: the beacon is at the pose (dx = dy = 0): no range");
+      if (sighting.c11 < 0.0 || sighting.c22 < 0.0 || sighting.c11 * sighting.c22 < sighting.c12 * sighting.c12)
+        line.fail("EDGE_SE2_XY: covariance is not positive semi-definite");
+      sightings.push_back(sighting);
     } else {
       line.fail("unknown type '" + type + "'");
     }
@@ -374,7 +393,6 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
        "the first VERTEX_SE2 is the start pose, and roam's estimators take no absolute fix");
   note(loop_closures, "loop closure(s) (EDGE_SE2 between poses that are not consecutive)",
        "roam's estimators take odometry and ranges");
-  note(pose_landmark_edges, "pose-landmark measurement(s) (EDGE_SE2_XY)", "roam's estimators take ranges only");
   note(other_robots, "line(s) of other robots (" + robotLetters(*robot) + ")",
        std::string("--robot ") + static_cast<char>(*robot) + " reads robot " + static_cast<char>(*robot) + " alone");
   note(inter_robot, "measurement(s) between two robots (EDGE_RANGE, EDGE_SE2)",
@@ -434,6 +452,20 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
     range.beacon_id = r.beacon;
     range.range_m = r.range_m;
     range.sigma_m = std::sqrt(r.variance);
+    d.ranges.push_back(range);
+  }
+  // A sighting is a range with a bearing: range |d|, bearing atan2(lateral, forward) in roam's
+  // body frame, range sigma the covariance along d (u' C u, u = d / |d|).
+  for (const RawSighting& s : sightings) {
+    const double forward = y_forward ? s.dy : s.dx, lateral = y_forward ? -s.dx : s.dy;
+    Range range;
+    range.utime = poses.at(s.pose).utime;
+    range.beacon_id = s.beacon;
+    range.range_m = std::hypot(s.dx, s.dy);
+    const double ux = s.dx / range.range_m, uy = s.dy / range.range_m;
+    range.sigma_m = std::sqrt(ux * ux * s.c11 + 2.0 * ux * uy * s.c12 + uy * uy * s.c22);
+    range.has_bearing = true;
+    range.bearing_rad = std::atan2(lateral, forward);
     d.ranges.push_back(range);
   }
   std::stable_sort(d.ranges.begin(), d.ranges.end(),
@@ -530,6 +562,13 @@ void writePyfg(const std::string& path, const Dataset& dataset, const PyfgWriteO
                                   [](int64_t t, const Pose& p) { return t < p.utime; });
     const size_t index = after == poses.begin() ? 0 : static_cast<size_t>(after - poses.begin()) - 1;
     const double sigma = r.sigma_m > 0.0 ? r.sigma_m : options.unknown_range_sigma_m;
+    if (r.has_bearing) {  // the beacon's position in the robot's frame, sigma in every direction
+      const double forward = r.range_m * std::cos(r.bearing_rad), lateral = r.range_m * std::sin(r.bearing_rad);
+      const double dx = y_forward ? -lateral : forward, dy = y_forward ? forward : lateral;
+      out << "EDGE_SE2_XY 0.000000 A" << index << " L" << r.beacon_id << " " << number(dx) << " " << number(dy) << " "
+          << number(sigma * sigma) << " 0 " << number(sigma * sigma) << "\n";
+      continue;
+    }
     out << "EDGE_RANGE 0.000000 A" << index << " L" << r.beacon_id << " " << number(r.range_m) << " "
         << number(sigma * sigma) << "\n";
   }

@@ -73,7 +73,7 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
 
 // Writes `dataset` as pyfg: dataset.ground_truth as the VERTEX_SE2 poses (one per odometry step
 // plus the start, at the odometry times), beacons as VERTEX_XY (with :PRIOR where their
-// covariance is known), odometry as EDGE_SE2 and ranges as EDGE_RANGE on the pose at or
+// covariance is known), odometry as EDGE_SE2 and ranges as EDGE_RANGE (with a bearing: EDGE_SE2_XY) on the pose at or
 // before their time. Odometry without a covariance gets `unknown_odometry_sigma` (forward and
 // lateral, m) and `unknown_heading_sigma_rad`; ranges without a sigma `unknown_range_sigma_m`.
 // Numbers are printed so that loadPyfgDataset reads back the same doubles.
