@@ -1,6 +1,7 @@
 #include "roam/range_fit.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 
@@ -29,23 +30,35 @@ struct Observation {
   double range_m;
 };
 
-double absCost(const std::vector<Observation>& obs, const Point& beacon) {
+// The range model's calibration: r = scale |m - p| + offset_m.
+struct Calibration {
+  double scale = 1.0, offset_m = 0.0;
+};
+
+double distance_m(const Point& beacon, const Point& from) {
+  return std::hypot(beacon.x_m - from.x_m, beacon.y_m - from.y_m);
+}
+
+double absCost(const std::vector<Observation>& obs, const Point& beacon, const Calibration& c) {
   double cost = 0.0;
-  for (const auto& o : obs) cost += std::abs(std::hypot(beacon.x_m - o.from.x_m, beacon.y_m - o.from.y_m) - o.range_m);
+  for (const auto& o : obs) cost += std::abs(c.scale * distance_m(beacon, o.from) + c.offset_m - o.range_m);
   return cost;
 }
 
-// Least absolute deviations by iteratively reweighted Gauss-Newton (weight 1 / max(|e|, 1 mm)).
-Point refine(const std::vector<Observation>& obs, Point beacon) {
-  double cost = absCost(obs, beacon);
+// IRLS weight of least absolute deviations: 1 / max(|e|, 1 mm).
+double l1Weight(double e) { return 1.0 / std::max(std::abs(e), 1e-3); }
+
+// A beacon's position by iteratively reweighted Gauss-Newton under least absolute deviations.
+Point refine(const std::vector<Observation>& obs, Point beacon, const Calibration& c) {
+  double cost = absCost(obs, beacon, c);
   for (int iteration = 0; iteration < 20; ++iteration) {
     double a00 = 0, a01 = 0, a11 = 0, g0 = 0, g1 = 0;
     for (const auto& o : obs) {
       const double dx = beacon.x_m - o.from.x_m, dy = beacon.y_m - o.from.y_m;
       const double d = std::max(std::hypot(dx, dy), 1e-9);
-      const double e = d - o.range_m;
-      const double w = 1.0 / std::max(std::abs(e), 1e-3);
-      const double jx = dx / d, jy = dy / d;
+      const double e = c.scale * d + c.offset_m - o.range_m;
+      const double w = l1Weight(e);
+      const double jx = c.scale * dx / d, jy = c.scale * dy / d;
       a00 += w * jx * jx;
       a01 += w * jx * jy;
       a11 += w * jy * jy;
@@ -55,7 +68,7 @@ Point refine(const std::vector<Observation>& obs, Point beacon) {
     const double det = a00 * a11 - a01 * a01;
     if (!(std::abs(det) > 1e-12 * (a00 * a11 + 1e-300))) break;
     Point next{beacon.x_m - (a11 * g0 - a01 * g1) / det, beacon.y_m - (a00 * g1 - a01 * g0) / det};
-    const double next_cost = absCost(obs, next);
+    const double next_cost = absCost(obs, next, c);
     if (!(next_cost < cost)) break;
     const double moved = std::hypot(next.x_m - beacon.x_m, next.y_m - beacon.y_m);
     beacon = next;
@@ -115,23 +128,164 @@ std::vector<RangeRecord> rangesToScore(const std::vector<RangeRecord>& ranges, i
   return out;
 }
 
-RangeFit rangeFit(const Path& path, const std::vector<RangeRecord>& ranges) {
+namespace {
+
+// 2x2 symmetric-or-not matrices, row-major, and what the joint step needs of them.
+struct M2 {
+  double a = 0, b = 0, c = 0, d = 0;  // [a b; c d]
+};
+M2 inverse(const M2& m) {
+  const double det = m.a * m.d - m.b * m.c;
+  return {m.d / det, -m.b / det, -m.c / det, m.a / det};
+}
+M2 times(const M2& x, const M2& y) {
+  return {x.a * y.a + x.b * y.c, x.a * y.b + x.b * y.d, x.c * y.a + x.d * y.c, x.c * y.b + x.d * y.d};
+}
+M2 transpose(const M2& m) { return {m.a, m.c, m.b, m.d}; }
+void apply(const M2& m, const double* v, double* out) {
+  out[0] = m.a * v[0] + m.b * v[1];
+  out[1] = m.c * v[0] + m.d * v[1];
+}
+
+double totalCost(const std::map<int, std::vector<Observation>>& by_beacon, const std::map<int, Point>& beacons,
+                 const Calibration& c) {
+  double cost = 0.0;
+  for (const auto& [id, obs] : by_beacon) cost += absCost(obs, beacons.at(id), c);
+  return cost;
+}
+
+// The range calibration and every free beacon together: IRLS Gauss-Newton on least absolute
+// deviations, the beacons eliminated block by block (each couples to the calibration alone), a
+// halved step where a full one does not lower the cost.
+void fitTogether(const std::map<int, std::vector<Observation>>& by_beacon, const std::vector<int>& free,
+                 std::map<int, Point>* beacons, Calibration* c) {
+  double cost = totalCost(by_beacon, *beacons, *c);
+  for (int iteration = 0; iteration < 50; ++iteration) {
+    M2 s_matrix;  // the calibration's normal matrix, then its Schur complement
+    double s_rhs[2] = {0, 0};
+    std::map<int, M2> a_inv, coupling;
+    std::map<int, std::array<double, 2>> beacon_rhs;
+    for (const auto& [id, obs] : by_beacon) {
+      const bool is_free = std::find(free.begin(), free.end(), id) != free.end();
+      const Point& m = beacons->at(id);
+      M2 a, b;
+      double g[2] = {0, 0};
+      for (const auto& o : obs) {
+        const double dx = m.x_m - o.from.x_m, dy = m.y_m - o.from.y_m;
+        const double d = std::max(std::hypot(dx, dy), 1e-9);
+        const double e = c->scale * d + c->offset_m - o.range_m;
+        const double w = l1Weight(e);
+        const double jb[2] = {c->scale * dx / d, c->scale * dy / d}, jc[2] = {d, 1.0};
+        s_matrix.a += w * jc[0] * jc[0];
+        s_matrix.b += w * jc[0] * jc[1];
+        s_matrix.c += w * jc[1] * jc[0];
+        s_matrix.d += w * jc[1] * jc[1];
+        s_rhs[0] += w * jc[0] * e;
+        s_rhs[1] += w * jc[1] * e;
+        if (!is_free) continue;
+        a.a += w * jb[0] * jb[0];
+        a.b += w * jb[0] * jb[1];
+        a.c += w * jb[1] * jb[0];
+        a.d += w * jb[1] * jb[1];
+        b.a += w * jb[0] * jc[0];
+        b.b += w * jb[0] * jc[1];
+        b.c += w * jb[1] * jc[0];
+        b.d += w * jb[1] * jc[1];
+        g[0] += w * jb[0] * e;
+        g[1] += w * jb[1] * e;
+      }
+      if (!is_free) continue;
+      // A beacon seen along one line only: a little damping keeps its block invertible.
+      const double damping = 1e-9 * (a.a + a.d) + 1e-12;
+      a.a += damping;
+      a.d += damping;
+      const M2 ai = inverse(a);
+      const M2 bt_ai = times(transpose(b), ai);
+      const M2 schur = times(bt_ai, b);
+      s_matrix.a -= schur.a;
+      s_matrix.b -= schur.b;
+      s_matrix.c -= schur.c;
+      s_matrix.d -= schur.d;
+      double t[2];
+      apply(bt_ai, g, t);
+      s_rhs[0] -= t[0];
+      s_rhs[1] -= t[1];
+      a_inv[id] = ai;
+      coupling[id] = b;
+      beacon_rhs[id] = {g[0], g[1]};
+    }
+    // Distances all alike do not tell scale from offset: damping holds what they cannot fix.
+    const double damping = 1e-9 * (s_matrix.a + s_matrix.d) + 1e-12;
+    s_matrix.a += damping;
+    s_matrix.d += damping;
+    double step_c[2];
+    apply(inverse(s_matrix), s_rhs, step_c);
+    step_c[0] = -step_c[0];
+    step_c[1] = -step_c[1];
+    std::map<int, Point> step_b;
+    for (int id : free) {
+      double bc[2], rhs[2], out[2];
+      apply(coupling[id], step_c, bc);
+      rhs[0] = beacon_rhs[id][0] + bc[0];
+      rhs[1] = beacon_rhs[id][1] + bc[1];
+      apply(a_inv[id], rhs, out);
+      step_b[id] = {-out[0], -out[1]};
+    }
+    bool lowered = false;
+    for (double f = 1.0; f > 1e-3 && !lowered; f *= 0.5) {
+      Calibration next_c{c->scale + f * step_c[0], c->offset_m + f * step_c[1]};
+      std::map<int, Point> next_b = *beacons;
+      for (int id : free) next_b[id] = {next_b[id].x_m + f * step_b[id].x_m, next_b[id].y_m + f * step_b[id].y_m};
+      const double next_cost = totalCost(by_beacon, next_b, next_c);
+      if (next_cost < cost) {
+        const bool settled = cost - next_cost <= 1e-12 * cost + 1e-15;
+        *c = next_c;
+        *beacons = std::move(next_b);
+        cost = next_cost;
+        lowered = true;
+        if (settled) return;
+      }
+    }
+    if (!lowered) return;
+  }
+}
+
+}  // namespace
+
+RangeFit rangeFit(const Path& path, const std::vector<RangeRecord>& ranges, const Map& surveyed,
+                  bool fit_calibration) {
   RangeFit fit;
   if (path.empty()) return fit;
   std::map<int, std::vector<Observation>> by_beacon;
   for (const auto& r : ranges) by_beacon[r.beacon_id].push_back({positionAt(path, r.utime), r.range_m});
-  double total = 0.0;
+  if (by_beacon.empty()) return fit;
+  std::map<int, Point> beacons;
+  for (const Beacon& b : surveyed)
+    if (by_beacon.count(b.id)) beacons[b.id] = {b.x_m, b.y_m};
+  std::vector<int> free;
+  Calibration c;
   for (const auto& [id, obs] : by_beacon) {
-    (void)id;
+    if (beacons.count(id)) continue;
+    free.push_back(id);
     double best = -1.0;
     for (const Point& start : startingPoints(obs)) {
-      const double cost = absCost(obs, refine(obs, start));
-      if (best < 0.0 || cost < best) best = cost;
+      const Point placed = refine(obs, start, c);
+      const double cost = absCost(obs, placed, c);
+      if (best < 0.0 || cost < best) {
+        best = cost;
+        beacons[id] = placed;
+      }
     }
-    total += best;
+  }
+  if (fit_calibration) fitTogether(by_beacon, free, &beacons, &c);
+  double total = 0.0;
+  for (const auto& [id, obs] : by_beacon) {
+    total += absCost(obs, beacons.at(id), c);
     fit.ranges += static_cast<int64_t>(obs.size());
   }
-  if (fit.ranges > 0) fit.mean_abs_residual_m = total / static_cast<double>(fit.ranges);
+  fit.mean_abs_residual_m = total / static_cast<double>(fit.ranges);
+  fit.scale = c.scale;
+  fit.offset_m = c.offset_m;
   return fit;
 }
 

@@ -105,18 +105,35 @@ void SelfCheck::decide(const Estimator& estimator, const Path& path) {
   const int64_t end = std::min(path.back().utime, dead_reckoned_.back().utime);
   const std::vector<RangeRecord> scored = rangesToScore(ranges_, begin, end);
   if (scored.empty()) return;
-  const RangeFit of_path = rangeFit(path, scored);
-  const RangeFit of_dead_reckoning = rangeFit(dead_reckoned_, scored);
+  // The path's shape (beacons free), and where the survey has ranged beacons, the path against it.
+  const RangeFit of_path = rangeFit(path, scored, {}, true);
+  const RangeFit of_dead_reckoning = rangeFit(dead_reckoned_, scored, {}, true);
   diagnostics_.emplace_back(kRangesScored, static_cast<double>(of_path.ranges));
   diagnostics_.emplace_back(kPathFit, of_path.mean_abs_residual_m);
   diagnostics_.emplace_back(kDeadReckoningFit, of_dead_reckoning.mean_abs_residual_m);
   // Worse beyond rounding (a path equal to dead reckoning but for the last bits is not worse).
-  if (of_path.mean_abs_residual_m > of_dead_reckoning.mean_abs_residual_m * (1.0 + 1e-9) + 1e-12) {
+  auto worse = [](const RangeFit& a, const RangeFit& b) {
+    return a.mean_abs_residual_m > b.mean_abs_residual_m * (1.0 + 1e-9) + 1e-12;
+  };
+  std::string why;
+  if (worse(of_path, of_dead_reckoning))
+    why = metres(of_path.mean_abs_residual_m) + " against " + metres(of_dead_reckoning.mean_abs_residual_m);
+  bool survey_ranged = false;
+  for (const Beacon& b : surveyed_)
+    for (const RangeRecord& r : scored) survey_ranged = survey_ranged || r.beacon_id == b.id;
+  if (survey_ranged) {
+    const RangeFit path_on_survey = rangeFit(path, scored, surveyed_, true);
+    const RangeFit dead_reckoning_on_survey = rangeFit(dead_reckoned_, scored, surveyed_, true);
+    diagnostics_.emplace_back(kPathSurveyFit, path_on_survey.mean_abs_residual_m);
+    diagnostics_.emplace_back(kDeadReckoningSurveyFit, dead_reckoning_on_survey.mean_abs_residual_m);
+    if (why.empty() && worse(path_on_survey, dead_reckoning_on_survey))
+      why = metres(path_on_survey.mean_abs_residual_m) + " against " +
+            metres(dead_reckoning_on_survey.mean_abs_residual_m) + " with the surveyed beacons";
+  }
+  if (!why.empty()) {
     use_dead_reckoning_ = true;
-    diagnostics_.emplace_back(std::string(kWorseNote) + " than dead reckoning does (mean |range residual| " +
-                                  metres(of_path.mean_abs_residual_m) + " against " +
-                                  metres(of_dead_reckoning.mean_abs_residual_m) + " over " +
-                                  std::to_string(of_path.ranges) +
+    diagnostics_.emplace_back(std::string(kWorseNote) + " than dead reckoning does (mean |range residual| " + why +
+                                  ", over " + std::to_string(of_path.ranges) +
                                   " ranges): the path published is dead reckoning from the start pose",
                               1.0);
   }

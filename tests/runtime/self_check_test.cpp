@@ -91,6 +91,39 @@ TEST(RangeFit, TheTruePathExplainsNoiseFreeRangesExactlyInAnyFrame) {
   EXPECT_GT(rangeFit(compose(startPose(), loopSteps(), 0.003), ranges).mean_abs_residual_m, 0.1);
 }
 
+// With a survey the beacons stay where it puts them: the frame is fixed, and a rigid motion of
+// the path is seen. The range scale and offset are fitted: a ranging system 7 % long and 0.3 m
+// late costs the true path nothing.
+TEST(RangeFit, SurveyedBeaconsFixTheFrameAndTheCalibrationIsFitted) {
+  const Path truth = compose(startPose(), loopSteps());
+  auto ranges = records(rangesAlong(truth, 0.0, 1));
+  for (auto& r : ranges) r.range_m = 1.07 * r.range_m + 0.3;
+  Map survey;
+  for (const Beacon2& b : kBeacons) {
+    roam::Beacon beacon;
+    beacon.id = b.id;
+    beacon.x_m = b.x_m;
+    beacon.y_m = b.y_m;
+    survey.push_back(beacon);
+  }
+  const RangeFit fit = rangeFit(truth, ranges, survey, true);
+  EXPECT_LT(fit.mean_abs_residual_m, 1e-6);
+  EXPECT_NEAR(fit.scale, 1.07, 1e-6);
+  EXPECT_NEAR(fit.offset_m, 0.3, 1e-5);
+  // Half the survey: the other two are placed, the same exact fit.
+  EXPECT_LT(rangeFit(truth, ranges, Map(survey.begin(), survey.begin() + 2), true).mean_abs_residual_m, 1e-6);
+  // Held at scale 1 and offset 0, the same ranges are not explained.
+  EXPECT_GT(rangeFit(truth, ranges, survey, false).mean_abs_residual_m, 0.5);
+  Path turned = truth;
+  for (Pose& p : turned) {
+    const double x = p.x_m, y = p.y_m;
+    p.x_m = std::cos(0.1) * x - std::sin(0.1) * y;
+    p.y_m = std::sin(0.1) * x + std::cos(0.1) * y;
+  }
+  EXPECT_LT(rangeFit(turned, ranges, {}, true).mean_abs_residual_m, 1e-6);
+  EXPECT_GT(rangeFit(turned, ranges, survey, true).mean_abs_residual_m, 0.3);
+}
+
 TEST(RangeFit, ABeaconBesideAStraightRunIsFoundOnEitherSide) {
   Path line;
   for (int k = 0; k <= 50; ++k) {
@@ -201,6 +234,45 @@ TEST(SelfCheck, APathWorseThanDeadReckoningIsReplacedByItAndSaid) {
   EXPECT_GT(value(check, SelfCheck::kPathFit), value(check, SelfCheck::kDeadReckoningFit));
   EXPECT_TRUE(hasNoteStartingWith(check, SelfCheck::kWorseNote));
   EXPECT_FALSE(check.replaced());  // that flag is the no-range rule's
+}
+
+// A path of the right shape in the wrong frame (the true path turned 0.3 rad about the start)
+// explains the ranges as well as the truth when the beacons are free, and worse than dead
+// reckoning against the survey: published only where there is no survey to tell.
+TEST(SelfCheck, APathTurnedAwayFromTheSurveyIsReplacedWhereThereIsOne) {
+  const auto steps = loopSteps();
+  const Path truth = compose(startPose(), steps);
+  auto measured = steps;
+  for (auto& s : measured) s.delta_heading_rad += 0.0003;
+  const auto ranges = rangesAlong(truth, 0.1, 11);
+  Path turned = truth;
+  for (Pose& p : turned) {
+    const double x = p.x_m, y = p.y_m;
+    p.x_m = std::cos(0.3) * x - std::sin(0.3) * y;
+    p.y_m = std::sin(0.3) * x + std::cos(0.3) * y;
+  }
+  Map survey;
+  for (const Beacon2& b : kBeacons) {
+    roam::Beacon beacon;
+    beacon.id = b.id;
+    beacon.x_m = b.x_m;
+    beacon.y_m = b.y_m;
+    survey.push_back(beacon);
+  }
+  for (bool surveyed : {false, true}) {
+    SCOPED_TRACE(surveyed ? "with a survey" : "no survey");
+    SelfCheck check;
+    if (surveyed) check.surveyed(survey);
+    FixedPathEstimator estimator(turned);
+    const Path published = publish(&check, &estimator, measured, ranges);
+    EXPECT_LT(value(check, SelfCheck::kPathFit), value(check, SelfCheck::kDeadReckoningFit));
+    EXPECT_EQ(published[100].x_m == turned[100].x_m, !surveyed);
+    EXPECT_EQ(hasNoteStartingWith(check, SelfCheck::kWorseNote), surveyed);
+    if (surveyed)
+      EXPECT_GT(value(check, SelfCheck::kPathSurveyFit), value(check, SelfCheck::kDeadReckoningSurveyFit));
+    else
+      EXPECT_TRUE(std::isnan(value(check, SelfCheck::kPathSurveyFit)));
+  }
 }
 
 TEST(SelfCheck, DeadReckoningItselfIsLeftAsItIs) {

@@ -1,18 +1,23 @@
 // How well a path explains the ranges taken along it: the statistic of the SDK's self-check
 // (roam/self_check.hpp), the same for every estimator.
 //
-// Model: a range r_k to beacon j taken at time t_k is |m_j - p(t_k)| + e_k, e_k Laplace (heavy
-// tailed: NLOS and clutter cost in proportion to their size, not its square). p(t) is the path
-// interpolated linearly in time; m_j is placed where it best explains its own ranges from this
-// path (least absolute deviations), so the statistic needs no map and no frame: a path and any
-// rigid motion of it score the same. The score is the mean |e_k| over the ranges counted, in
+// Model: a range r_k to beacon j taken at time t_k is scale |m_j - p(t_k)| + offset + e_k, e_k
+// Laplace (heavy tailed: NLOS and clutter cost in proportion to their size, not its square).
+// p(t) is the path interpolated linearly in time. A surveyed beacon m_j is where the survey puts
+// it (the survey and the path share the log's one frame); any other is placed where it best
+// explains its own ranges from this path. Two uses (roam/self_check.hpp):
+//  - the path's shape: no survey, scale 1 and offset 0: a path and any rigid motion of it score
+//    the same, and a path bent to absorb a range scale scores what it is;
+//  - the path against the survey, with the range scale and offset (roam's one range calibration,
+//    estimation/sensor_priors.hpp) that best explain every range: a ranging system 7 % long or
+//    0.3 m late costs a path nothing, a path in the wrong place or turned costs it.
+// All by least absolute deviations. The score is the mean |e_k| over the ranges counted, in
 // metres. A beacon with fewer than three ranges in the window is not counted (two ranges fit a
 // 2-D point exactly from any path). Ranges outside the path's time span are not counted.
 //
-// This is a scorer, not a beacon initialisation: it has no priors and no calibration (both
-// paths compared pay the same for a range scale or offset), and it is in the SDK because the
-// SDK needs no maths library; the estimators' one initialisation is roam/estimation's
-// multilaterate().
+// This is a scorer, not a beacon initialisation: it has no priors (both paths compared get the
+// same freedom), and it is in the SDK because the SDK needs no maths library; the estimators'
+// one initialisation is roam/estimation's multilaterate().
 #pragma once
 
 #include <cstdint>
@@ -31,13 +36,17 @@ struct RangeRecord {
 struct RangeFit {
   double mean_abs_residual_m = 0.0;  // over `ranges` counted; 0 if none
   int64_t ranges = 0;
+  double scale = 1.0, offset_m = 0.0;  // the range calibration fitted with it
 };
 
 // The ranges of `ranges` within [begin_utime, end_utime] whose beacon has at least three there.
 std::vector<RangeRecord> rangesToScore(const std::vector<RangeRecord>& ranges, int64_t begin_utime,
                                        int64_t end_utime);
 
-// The fit of `path` (ordered by time) to `ranges` (all within its time span).
-RangeFit rangeFit(const Path& path, const std::vector<RangeRecord>& ranges);
+// The fit of `path` (ordered by time) to `ranges` (all within its time span), the beacons of
+// `surveyed` held where it puts them; the range scale and offset fitted with the free beacons if
+// `fit_calibration`, else 1 and 0.
+RangeFit rangeFit(const Path& path, const std::vector<RangeRecord>& ranges, const Map& surveyed = {},
+                  bool fit_calibration = false);
 
 }  // namespace roam

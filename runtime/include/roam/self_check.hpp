@@ -11,13 +11,15 @@
 // (dead reckoning has no frame then).
 //
 // A path the ranges do not support: an estimator that accepted ranges departs from dead
-// reckoning to explain them; a departure that explains them worse than dead reckoning does
-// (roam/range_fit.hpp: the mean |range residual| over the same ranges, each path with the beacons
-// that fit it best) is not supported by any measurement it was given, and dead reckoning from the
-// start pose is published in its place, with a note giving both figures. A path that explains the
-// ranges as well or better is published as it is, and STATUS carries both figures either way
-// (kPathFit, kDeadReckoningFit). Ranges outside either path's time span, and those of a beacon
-// ranged fewer than three times within it, are not counted.
+// reckoning to explain them. Its path and dead reckoning are scored on the same ranges
+// (roam/range_fit.hpp, mean |range residual|) twice: the path's shape, every beacon placed where
+// it fits that path best (kPathFit, kDeadReckoningFit); and, where surveyed beacons were ranged,
+// the path against the survey with the range scale and offset that fit best (kPathSurveyFit,
+// kDeadReckoningSurveyFit). A path that explains the ranges worse than dead reckoning does by
+// either is supported by no measurement it was given: dead reckoning from the start pose is
+// published in its place, with a note giving the figures. STATUS carries them either way.
+// Ranges outside either path's time span, and those of a beacon ranged fewer than three times
+// within it, are not counted.
 //
 // Anchor observability: with anchor = beacons, the surveyed beacons fix the frame only if at
 // least three of them, not on one line, were ranged; fewer leave its rotation (one) or its
@@ -43,6 +45,9 @@ class SelfCheck {
   static constexpr const char* kWorseNote = "note: self-check: its path explained the ranges worse";
   static constexpr const char* kPathFit = "self-check: mean |range residual| of its path (m)";
   static constexpr const char* kDeadReckoningFit = "self-check: mean |range residual| of dead reckoning (m)";
+  static constexpr const char* kPathSurveyFit = "self-check: mean |range residual| of its path, surveyed beacons (m)";
+  static constexpr const char* kDeadReckoningSurveyFit =
+      "self-check: mean |range residual| of dead reckoning, surveyed beacons (m)";
   static constexpr const char* kRangesScored = "self-check: ranges scored";
   static constexpr const char* kAnchorNote = "note: anchor = beacons";
 
