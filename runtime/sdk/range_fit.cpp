@@ -1,5 +1,7 @@
 #include "roam/range_fit.hpp"
 
+#include "roam/calibration_priors.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -26,6 +28,7 @@ Point positionAt(const Path& path, int64_t utime) {
 }
 
 struct Observation {
+  size_t index;  // in the ranges scored
   Point from;
   double range_m;
 };
@@ -147,6 +150,17 @@ void apply(const M2& m, const double* v, double* out) {
   out[1] = m.c * v[0] + m.d * v[1];
 }
 
+// The calibration held within three sigmas of roam's priors (roam/calibration_priors.hpp; the
+// offset's sigma the shared and a beacon's own together): ranges that only a scale near 0 and an
+// offset near their median would explain (half of them NLOS) are not explained away.
+Calibration withinPrior(Calibration c) {
+  const double scale_bound = 3.0 * kRangeScalePriorSigma;
+  const double offset_bound_m = 3.0 * std::hypot(kRangeOffsetPriorSigma_m, kBeaconOffsetPriorSigma_m);
+  c.scale = std::clamp(c.scale, 1.0 - scale_bound, 1.0 + scale_bound);
+  c.offset_m = std::clamp(c.offset_m, -offset_bound_m, offset_bound_m);
+  return c;
+}
+
 double totalCost(const std::map<int, std::vector<Observation>>& by_beacon, const std::map<int, Point>& beacons,
                  const Calibration& c) {
   double cost = 0.0;
@@ -233,7 +247,7 @@ void fitTogether(const std::map<int, std::vector<Observation>>& by_beacon, const
     }
     bool lowered = false;
     for (double f = 1.0; f > 1e-3 && !lowered; f *= 0.5) {
-      Calibration next_c{c->scale + f * step_c[0], c->offset_m + f * step_c[1]};
+      const Calibration next_c = withinPrior({c->scale + f * step_c[0], c->offset_m + f * step_c[1]});
       std::map<int, Point> next_b = *beacons;
       for (int id : free) next_b[id] = {next_b[id].x_m + f * step_b[id].x_m, next_b[id].y_m + f * step_b[id].y_m};
       const double next_cost = totalCost(by_beacon, next_b, next_c);
@@ -257,7 +271,10 @@ RangeFit rangeFit(const Path& path, const std::vector<RangeRecord>& ranges, cons
   RangeFit fit;
   if (path.empty()) return fit;
   std::map<int, std::vector<Observation>> by_beacon;
-  for (const auto& r : ranges) by_beacon[r.beacon_id].push_back({positionAt(path, r.utime), r.range_m});
+  for (size_t k = 0; k < ranges.size(); ++k) {
+    const RangeRecord& r = ranges[k];
+    by_beacon[r.beacon_id].push_back({k, positionAt(path, r.utime), r.range_m});
+  }
   if (by_beacon.empty()) return fit;
   std::map<int, Point> beacons;
   for (const Beacon& b : surveyed)
@@ -279,8 +296,14 @@ RangeFit rangeFit(const Path& path, const std::vector<RangeRecord>& ranges, cons
   }
   if (fit_calibration) fitTogether(by_beacon, free, &beacons, &c);
   double total = 0.0;
+  fit.residuals_m.assign(ranges.size(), 0.0);
   for (const auto& [id, obs] : by_beacon) {
-    total += absCost(obs, beacons.at(id), c);
+    const Point& m = beacons.at(id);
+    for (const auto& o : obs) {
+      const double residual = std::abs(c.scale * distance_m(m, o.from) + c.offset_m - o.range_m);
+      fit.residuals_m[o.index] = residual;
+      total += residual;
+    }
     fit.ranges += static_cast<int64_t>(obs.size());
   }
   fit.mean_abs_residual_m = total / static_cast<double>(fit.ranges);

@@ -57,6 +57,30 @@ std::string metres(double value_m) {
 
 }  // namespace
 
+bool worseBeyondChance(const std::vector<double>& path_m, const std::vector<double>& dead_reckoning_m) {
+  const size_t n = std::min(path_m.size(), dead_reckoning_m.size());
+  if (n == 0) return false;
+  const size_t batches = std::min<size_t>(kSelfCheckBatches, n);
+  const size_t per_batch = n / batches;  // the last few ranges (n % batches) are left out
+  std::vector<double> means(batches, 0.0);
+  double mean = 0.0, scale = 0.0;
+  for (size_t i = 0; i < batches; ++i) {
+    for (size_t k = i * per_batch; k < (i + 1) * per_batch; ++k) {
+      means[i] += path_m[k] - dead_reckoning_m[k];
+      scale += dead_reckoning_m[k];
+    }
+    means[i] /= static_cast<double>(per_batch);
+    mean += means[i];
+  }
+  mean /= static_cast<double>(batches);
+  scale /= static_cast<double>(batches * per_batch);
+  double variance = 0.0;
+  for (double m : means) variance += (m - mean) * (m - mean);
+  const double standard_error = batches > 1 ? std::sqrt(variance / static_cast<double>(batches - 1) / batches) : 0.0;
+  // Beyond rounding too: a path equal to dead reckoning but for the last bits is not worse.
+  return mean > kSelfCheckStandardErrors * standard_error && mean > 1e-9 * scale + 1e-12;
+}
+
 void SelfCheck::checkAnchor() {
   if (anchor_ != "beacons" || surveyed_.empty()) return;
   std::set<int> ranged;
@@ -103,7 +127,18 @@ void SelfCheck::decide(const Estimator& estimator, const Path& path) {
   if (path.empty() || dead_reckoned_.size() < 2) return;
   const int64_t begin = std::max(path.front().utime, dead_reckoned_.front().utime);
   const int64_t end = std::min(path.back().utime, dead_reckoned_.back().utime);
-  const std::vector<RangeRecord> scored = rangesToScore(ranges_, begin, end);
+  // At most kSelfCheckMaxRanges scored, every k-th in time order (a run of a million ranges
+  // costs the check what one of 20,000 does, and says the same).
+  std::vector<RangeRecord> window;
+  for (const RangeRecord& r : ranges_)
+    if (r.utime >= begin && r.utime <= end) window.push_back(r);
+  const size_t stride = (window.size() + kSelfCheckMaxRanges - 1) / kSelfCheckMaxRanges;
+  if (stride > 1) {
+    std::vector<RangeRecord> thinned;
+    for (size_t k = 0; k < window.size(); k += stride) thinned.push_back(window[k]);
+    window.swap(thinned);
+  }
+  const std::vector<RangeRecord> scored = rangesToScore(window, begin, end);
   if (scored.empty()) return;
   // The path's shape (beacons free), and where the survey has ranged beacons, the path against it.
   const RangeFit of_path = rangeFit(path, scored, {}, true);
@@ -111,10 +146,7 @@ void SelfCheck::decide(const Estimator& estimator, const Path& path) {
   diagnostics_.emplace_back(kRangesScored, static_cast<double>(of_path.ranges));
   diagnostics_.emplace_back(kPathFit, of_path.mean_abs_residual_m);
   diagnostics_.emplace_back(kDeadReckoningFit, of_dead_reckoning.mean_abs_residual_m);
-  // Worse beyond rounding (a path equal to dead reckoning but for the last bits is not worse).
-  auto worse = [](const RangeFit& a, const RangeFit& b) {
-    return a.mean_abs_residual_m > b.mean_abs_residual_m * (1.0 + 1e-9) + 1e-12;
-  };
+  auto worse = [](const RangeFit& a, const RangeFit& b) { return worseBeyondChance(a.residuals_m, b.residuals_m); };
   std::string why;
   if (worse(of_path, of_dead_reckoning))
     why = metres(of_path.mean_abs_residual_m) + " against " + metres(of_dead_reckoning.mean_abs_residual_m);

@@ -145,6 +145,30 @@ TEST(RangeFit, OnlyBeaconsRangedThreeTimesWithinTheSpanAreScored) {
   for (const auto& r : scored) EXPECT_EQ(r.beacon_id, 1);
 }
 
+// Worse beyond chance: paired differences against twice their batch-means standard error.
+TEST(SelfCheck, WorseMeansWorseBeyondChance) {
+  std::mt19937 random(5);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::vector<double> a(1000), b(1000);
+  for (size_t k = 0; k < a.size(); ++k) {
+    a[k] = std::abs(noise(random));
+    b[k] = std::abs(noise(random));
+  }
+  EXPECT_FALSE(worseBeyondChance(a, a));  // the same residuals
+  // Equal in distribution: worse by chance alone, and not called worse either way.
+  EXPECT_FALSE(worseBeyondChance(a, b));
+  EXPECT_FALSE(worseBeyondChance(b, a));
+  // 0.3 m worse on every range: far beyond the standard error (~0.03 m).
+  std::vector<double> worse = a;
+  for (double& r : worse) r += 0.3;
+  EXPECT_TRUE(worseBeyondChance(worse, a));
+  EXPECT_FALSE(worseBeyondChance(a, worse));
+  // One range far off among a thousand equal ones: a batch mean moves, the rest do not.
+  std::vector<double> one_off = a;
+  one_off[500] += 50.0;
+  EXPECT_FALSE(worseBeyondChance(one_off, a));
+}
+
 // An estimator that publishes a path it was handed.
 class FixedPathEstimator : public Estimator {
  public:

@@ -16,16 +16,18 @@
 // it fits that path best (kPathFit, kDeadReckoningFit); and, where surveyed beacons were ranged,
 // the path against the survey with the range scale and offset that fit best (kPathSurveyFit,
 // kDeadReckoningSurveyFit). A path that explains the ranges worse than dead reckoning does by
-// either is supported by no measurement it was given: dead reckoning from the start pose is
-// published in its place, with a note giving the figures. STATUS carries them either way.
+// either, beyond chance (worseBeyondChance), is supported by no measurement it was given: dead
+// reckoning from the start pose is published in its place, with a note giving the figures.
+// STATUS carries them either way.
 // Ranges outside either path's time span, and those of a beacon ranged fewer than three times
-// within it, are not counted.
+// within it, are not counted; of more than kSelfCheckMaxRanges, every k-th is.
 //
 // Anchor observability: with anchor = beacons, the surveyed beacons fix the frame only if at
 // least three of them, not on one line, were ranged; fewer leave its rotation (one) or its
 // reflection (two, or any number on one line) free, and a note says so.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -36,6 +38,16 @@
 #include "roam/types.hpp"
 
 namespace roam {
+
+// Beyond chance: the mean of the paired differences |e_path| - |e_dead_reckoning|, range by range
+// in time order, is over kSelfCheckStandardErrors of its standard error, estimated by batch means
+// over kSelfCheckBatches consecutive batches (ranges close in time err together, and batch means
+// count that; 20 batches is the method's usual number). Two standard errors: a path is replaced
+// where its worse fit has about a 2 % chance of being noise.
+constexpr size_t kSelfCheckBatches = 20;
+constexpr size_t kSelfCheckMaxRanges = 20000;
+constexpr double kSelfCheckStandardErrors = 2.0;
+bool worseBeyondChance(const std::vector<double>& path_m, const std::vector<double>& dead_reckoning_m);
 
 class SelfCheck {
  public:

@@ -1,0 +1,22 @@
+// The priors of roam's one calibration state, from what the sensors state, in one place: the
+// estimators (roam/estimation/sensor_priors.hpp builds on these) and the SDK's self-check
+// (roam/range_fit.hpp) use the same numbers.
+//
+// Gyro: heading-rate bias b ~ N(0, 0.01^2) rad/s (0.6 deg/s: a MEMS gyro's turn-on bias;
+// fibre-optic and wheel-odometry headings drift less), a random walk whose constant case is 0.
+//
+// Range model: r = scale |m - p| + offset + offset_beacon + e,  e ~ N(0, sigma^2).
+//  - scale ~ N(1, 0.1^2): UWB and acoustic ranges run long by a few percent (a speed-of-sound
+//    or clock-rate error; Plaza 1's UWB ranges are 7 % long), 10 % is a generous 1-sigma.
+//  - offset ~ N(0, 1.0^2) m: an antenna delay or lever arm, stated in decimetres to a metre.
+//  - offset_beacon ~ N(0, 1.0^2) m: each beacon's own delay, of the same size.
+#pragma once
+
+namespace roam {
+
+constexpr double kHeadingRateBiasPriorSigma_rad_s = 0.01;
+constexpr double kRangeScalePriorSigma = 0.1;
+constexpr double kRangeOffsetPriorSigma_m = 1.0;
+constexpr double kBeaconOffsetPriorSigma_m = 1.0;
+
+}  // namespace roam
