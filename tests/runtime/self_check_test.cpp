@@ -18,6 +18,19 @@ struct Beacon2 {
 };
 const std::vector<Beacon2> kBeacons = {{1, 12.0, 3.0}, {2, -4.0, 9.0}, {3, 5.0, -8.0}, {4, 20.0, 15.0}};
 
+// kBeacons as a survey (BEACONS), each where it is.
+Map surveyOfEveryBeacon() {
+  Map survey;
+  for (const Beacon2& b : kBeacons) {
+    roam::Beacon beacon;
+    beacon.id = b.id;
+    beacon.x_m = b.x_m;
+    beacon.y_m = b.y_m;
+    survey.push_back(beacon);
+  }
+  return survey;
+}
+
 // A loop: 200 steps of 0.1 s, 0.5 m forward and a steady turn (a circle of radius ~8 m).
 std::vector<Odometry> loopSteps() {
   std::vector<Odometry> steps;
@@ -98,14 +111,7 @@ TEST(RangeFit, SurveyedBeaconsFixTheFrameAndTheCalibrationIsFitted) {
   const Path truth = compose(startPose(), loopSteps());
   auto ranges = records(rangesAlong(truth, 0.0, 1));
   for (auto& r : ranges) r.range_m = 1.07 * r.range_m + 0.3;
-  Map survey;
-  for (const Beacon2& b : kBeacons) {
-    roam::Beacon beacon;
-    beacon.id = b.id;
-    beacon.x_m = b.x_m;
-    beacon.y_m = b.y_m;
-    survey.push_back(beacon);
-  }
+  const Map survey = surveyOfEveryBeacon();
   const RangeFit fit = rangeFit(truth, ranges, survey, true);
   EXPECT_LT(fit.mean_abs_residual_m, 1e-6);
   EXPECT_NEAR(fit.scale, 1.07, 1e-6);
@@ -275,14 +281,7 @@ TEST(SelfCheck, APathTurnedAwayFromTheSurveyIsReplacedWhereThereIsOne) {
     p.x_m = std::cos(0.3) * x - std::sin(0.3) * y;
     p.y_m = std::sin(0.3) * x + std::cos(0.3) * y;
   }
-  Map survey;
-  for (const Beacon2& b : kBeacons) {
-    roam::Beacon beacon;
-    beacon.id = b.id;
-    beacon.x_m = b.x_m;
-    beacon.y_m = b.y_m;
-    survey.push_back(beacon);
-  }
+  const Map survey = surveyOfEveryBeacon();
   for (bool surveyed : {false, true}) {
     SCOPED_TRACE(surveyed ? "with a survey" : "no survey");
     SelfCheck check;
