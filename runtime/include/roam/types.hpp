@@ -24,6 +24,8 @@ struct Odometry {
 
   // Every entry finite and every variance > 0 (a zero-filled covariance counts as unknown).
   bool hasCovariance() const;
+  // The team member whose step this is (index into the team's robots; 0 for a robot alone).
+  int robot = 0;
 };
 
 struct Range {
@@ -33,6 +35,13 @@ struct Range {
   double sigma_m = 0.0;  // <= 0: use the estimator's configured value
   bool has_bearing = false;
   double bearing_rad = 0.0;  // robot-relative
+  // The team member that measured it (0 for a robot alone), and what it ranged: a fixed beacon
+  // (other_robot = -1, beacon_id names it) or another member of the team (other_robot = its
+  // index; beacon_id unused). A range between two robots is taken at utime by both robots'
+  // positions at that time.
+  int robot = 0;
+  int other_robot = -1;
+  bool toRobot() const { return other_robot >= 0; }
 };
 
 // world_T_robot in 2-D, with an optional row-major (x, y, heading) covariance.
@@ -42,6 +51,7 @@ struct Pose {
   double y_m = 0.0;
   double heading_rad = 0.0;
   std::array<double, 9> covariance{kNaN, kNaN, kNaN, kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
+  int robot = 0;  // the team member it is a pose of (0 for a robot alone)
 };
 
 struct Beacon {

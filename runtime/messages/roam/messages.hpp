@@ -26,6 +26,10 @@ inline constexpr const char* RANGE = "RANGE";
 inline constexpr const char* INITIAL_POSE = "INITIAL_POSE";
 inline constexpr const char* BEACONS = "BEACONS";
 inline constexpr const char* GROUND_TRUTH = "GROUND_TRUTH";
+// A team's log: each robot's inputs on its own channels, <CHANNEL>_<robot> (ODOMETRY_A, RANGE_A,
+// INITIAL_POSE_A, GROUND_TRUTH_A), its ranges to other robots (robot_range_t) on ROBOT_RANGE_<robot>;
+// BEACONS is the team's. Outputs of an estimator NAME for robot R: POSE_NAME_R, TRAJECTORY_NAME_R.
+inline constexpr const char* ROBOT_RANGE = "ROBOT_RANGE";
 
 // Output prefixes, one channel each per estimator instance: <PREFIX><NAME upper-cased>.
 inline constexpr const char* POSE_PREFIX = "POSE_";
@@ -38,6 +42,9 @@ inline constexpr const char* STATUS_PREFIX = "STATUS_";
 // "POSE_" + "spectral" -> "POSE_SPECTRAL". A prefix without the trailing '_' gets one
 // ("POSE" + "dr" -> "POSE_DR"); an empty prefix gives the upper-cased name alone.
 std::string outputChannel(const std::string& prefix, const std::string& estimator_name);
+
+// A team member's channel: teamChannel("ODOMETRY", "A") -> "ODOMETRY_A".
+inline std::string teamChannel(const std::string& channel, const std::string& robot) { return channel + "_" + robot; }
 
 // ASCII upper case ("ekf-2" -> "EKF-2"): the channel suffix of an estimator name.
 std::string upperCase(const std::string& text);
