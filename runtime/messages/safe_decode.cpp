@@ -77,6 +77,12 @@ int decodeMessage(const void* data, int size, roam::range_t* message) {
   return decodeGuarded(data, size, message);
 }
 
+int decodeMessage(const void* data, int size, roam::robot_range_t* message) {
+  Walker walk(data, size);
+  if (!walk.skip(kHash + kInt64) || !walk.string()) return -1;  // utime, other_robot
+  return decodeGuarded(data, size, message);
+}
+
 int decodeMessage(const void* data, int size, roam::pose_t* message) {
   Walker walk(data, size);
   if (!walk.skip(kHash + kInt64) || !walk.string()) return -1;

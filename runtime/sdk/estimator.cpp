@@ -1,8 +1,13 @@
 #include "roam/estimator.hpp"
 
+#include <stdexcept>
 #include <utility>
 
 namespace roam {
+
+void Estimator::setTeam(const std::vector<std::string>& robots) {
+  throw std::runtime_error("this estimator estimates one robot, not a team of " + std::to_string(robots.size()));
+}
 
 Path Estimator::takePoses() {
   Path out;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iterator>
+#include <stdexcept>
 
 namespace roam {
 namespace shim {
@@ -50,6 +51,7 @@ To copyPose(const From& in) {
   out.y_m = in.y_m;
   out.heading_rad = in.heading_rad;
   copyCovariance(out.covariance, in.covariance);
+  out.robot = in.robot;
   return out;
 }
 
@@ -71,6 +73,7 @@ To copyOdometry(const From& in) {
   out.lateral_m = in.lateral_m;
   out.delta_heading_rad = in.delta_heading_rad;
   copyCovariance(out.covariance, in.covariance);
+  out.robot = in.robot;
   return out;
 }
 
@@ -83,6 +86,7 @@ To copyRange(const From& in) {
   out.sigma_m = in.sigma_m;
   out.has_bearing = in.has_bearing != 0;  // bool <-> the ABI's 0 or 1
   out.bearing_rad = in.bearing_rad;
+  out.robot = in.robot;
   return out;
 }
 
@@ -94,8 +98,17 @@ roam_beacon toC(const Beacon& beacon) { return copyBeacon<roam_beacon>(beacon); 
 Beacon fromC(const roam_beacon& beacon) { return copyBeacon<Beacon>(beacon); }
 roam_odometry toC(const Odometry& odometry) { return copyOdometry<roam_odometry>(odometry); }
 Odometry fromC(const roam_odometry& odometry) { return copyOdometry<Odometry>(odometry); }
-roam_range toC(const Range& range) { return copyRange<roam_range>(range); }
-Range fromC(const roam_range& range) { return copyRange<Range>(range); }
+// Range::other_robot (-1: a beacon) is roam_range::to_robot - 1 (0: a beacon).
+roam_range toC(const Range& range) {
+  roam_range out = copyRange<roam_range>(range);
+  out.to_robot = range.other_robot + 1;
+  return out;
+}
+Range fromC(const roam_range& range) {
+  Range out = copyRange<Range>(range);
+  out.other_robot = range.to_robot - 1;
+  return out;
+}
 
 std::string checkOdometry(const roam_odometry& odometry) {
   if (!std::isfinite(odometry.forward_m) || !std::isfinite(odometry.lateral_m) ||
@@ -136,6 +149,20 @@ void copyError(roam_error* error, const std::string& key, const std::string& mes
   std::snprintf(error->key, sizeof(error->key), "%s", key.c_str());
   std::snprintf(error->message, sizeof(error->message), "%s", message.c_str());
 }
+
+namespace {
+// "" if `robot` (and a range's `other_robot`) name members of the instance's team (robot 0 and
+// no other robot for an estimator of one robot), else why not.
+std::string checkMembers(const Instance& self, int32_t robot, int32_t other_robot = -1) {
+  const auto size = static_cast<int32_t>(std::max<size_t>(1, self.team.size()));
+  if (robot < 0 || robot >= size) return "robot " + std::to_string(robot) + " is not in the team";
+  if (other_robot == -1) return "";
+  if (self.team.empty()) return "a range to another robot (this estimator estimates one robot)";
+  if (other_robot < 0 || other_robot >= size) return "other robot " + std::to_string(other_robot) + " is not in the team";
+  if (other_robot == robot) return "a range from a robot to itself";
+  return "";
+}
+}  // namespace
 
 roam_handle create(Factory factory, const roam_kv* config, int32_t num_config,
                    roam_error* error) {
@@ -187,8 +214,12 @@ int setInitialPose(roam_handle h, const roam_pose* pose) {
       self.estimator->rejectInput("initial pose", "not finite");
       return;
     }
+    if (const std::string problem = checkMembers(self, pose->robot); !problem.empty()) {
+      self.estimator->rejectInput("initial pose", problem);
+      return;
+    }
     self.estimator->setInitialPose(fromC(*pose));
-    self.self_check.startPose(fromC(*pose));
+    if (self.team.empty()) self.self_check.startPose(fromC(*pose));
   });
 }
 
@@ -209,16 +240,21 @@ int setBeacons(roam_handle h, const roam_beacon* beacons, int32_t num_beacons) {
 
 int addOdometry(roam_handle h, const roam_odometry* odometry) {
   return guarded(h, [&](Instance& self) {
-    const std::string problem = self.odometry_check.check(*odometry);
+    if (const std::string problem = checkMembers(self, odometry->robot); !problem.empty()) {
+      self.estimator->rejectOdometry(problem);
+      return;
+    }
+    OdometryCheck& check = self.team.empty() ? self.odometry_check : self.team_odometry_checks[odometry->robot];
+    const std::string problem = check.check(*odometry);
     if (!problem.empty()) {
       self.estimator->rejectOdometry(problem);
       return;
     }
-    self.odometry_check.accepted(*odometry);
+    check.accepted(*odometry);
     const Odometry step = fromC(*odometry);
     const int64_t accepted_before = self.estimator->odometryAccepted();
     self.estimator->addOdometry(step);
-    self.self_check.odometry(step, self.estimator->odometryAccepted() > accepted_before);
+    if (self.team.empty()) self.self_check.odometry(step, self.estimator->odometryAccepted() > accepted_before);
   });
 }
 
@@ -233,16 +269,20 @@ int addRange(roam_handle h, const roam_range* range) {
       self.estimator->rejectRange("longer than max_range_m");
       return;
     }
+    if (const std::string members = checkMembers(self, range->robot, range->to_robot - 1); !members.empty()) {
+      self.estimator->rejectRange(members);
+      return;
+    }
     const Range accepted = fromC(*range);
     self.estimator->addRange(accepted);
-    self.self_check.range(accepted);
+    if (self.team.empty()) self.self_check.range(accepted);
   });
 }
 
 int finish(roam_handle h) {
   return guarded(h, [&](Instance& self) {
     self.estimator->finish();
-    self.self_check.finished();
+    if (self.team.empty()) self.self_check.finished();
   });
 }
 
@@ -269,7 +309,7 @@ int pollTrajectory(roam_handle h, int32_t force, int32_t* available, const roam_
   return guarded(h, [&](Instance& self) {
     Path path;
     *available = self.estimator->trajectory(force != 0, &path) ? 1 : 0;
-    if (*available) self.self_check.apply(*self.estimator, &path);
+    if (*available && self.team.empty()) self.self_check.apply(*self.estimator, &path);
     self.path = toC(path);
     *poses = self.path.data();
     *num_poses = static_cast<int32_t>(self.path.size());
@@ -310,6 +350,18 @@ int getStatus(roam_handle h, roam_status* status) {
     status->num_values = static_cast<int32_t>(self.diagnostic_values.size());
     status->keys = self.diagnostic_key_ptrs.data();
     status->values = self.diagnostic_values.data();
+  });
+}
+
+int setTeam(roam_handle h, const char* const* robots, int32_t num_robots) {
+  return guarded(h, [&](Instance& self) {
+    if (!self.team.empty()) throw std::runtime_error("set_team: the team was already set");
+    if (num_robots < 1) throw std::runtime_error("set_team: a team needs at least one robot");
+    std::vector<std::string> names;
+    for (int32_t i = 0; i < num_robots; ++i) names.emplace_back(robots[i] != nullptr ? robots[i] : "");
+    self.estimator->setTeam(names);
+    self.team = names;
+    self.team_odometry_checks.assign(names.size(), self.odometry_check);
   });
 }
 

@@ -150,6 +150,37 @@ bool validName(const std::string& name) {
   return true;
 }
 
+// [team] robots = A B C: the team's names (space- or comma-separated, each a channel suffix).
+std::vector<std::string> parseTeam(const std::vector<Setting>& settings, const Origin& section_origin) {
+  std::string robots_text;
+  KeyValues values;
+  for (const auto& setting : settings) values.emplace_back(setting.key, setting.value);
+  Options options(values);
+  options.add("robots", &robots_text,
+              "the team's robots, space-separated: each robot's inputs are on <CHANNEL>_<robot> (ODOMETRY_A, ...)");
+  parseSection(options, settings, "team", section_origin);
+  Origin origin = section_origin;
+  for (const auto& setting : settings) {
+    if (setting.key == "robots") origin = setting.origin;
+  }
+  std::vector<std::string> robots;
+  std::istringstream words(robots_text);
+  for (std::string word; std::getline(words, word, ' ');) {
+    for (std::string name; !word.empty();) {
+      const auto comma = word.find(',');
+      name = trim(word.substr(0, comma));
+      word = comma == std::string::npos ? "" : word.substr(comma + 1);
+      if (name.empty()) continue;
+      if (!validName(name)) fail(origin, "team", "robots", "'" + name + "': a robot's name must be letters, digits, '_' or '-'");
+      if (std::find(robots.begin(), robots.end(), name) != robots.end())
+        fail(origin, "team", "robots", "'" + name + "' is named twice");
+      robots.push_back(name);
+    }
+  }
+  if (robots.empty()) fail(origin, "team", "robots", "missing: name the team's robots, e.g. robots = A B C");
+  return robots;
+}
+
 }  // namespace
 
 std::string Origin::describe() const {
@@ -183,7 +214,7 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
     if (!ini.sections.count(section)) {
       // A new [estimator.NAME] needs its plugin named; any other key for a section the file does
       // not have is a typo of a section's name, said as such (not as a missing plugin key).
-      if (section != "runtime" && key != "plugin") {
+      if (section != "runtime" && section != "team" && key != "plugin") {
         std::string sections;
         for (const auto& known : ini.section_order) sections += (sections.empty() ? "" : ", ") + ("[" + known + "]");
         std::string message = "no section [" + section + "] in " + path + " (it has " +
@@ -212,9 +243,9 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
     return Origin{path, it == ini.section_lines.end() ? 0 : it->second, ""};
   };
   for (const auto& section : ini.section_order) {
-    if (section == "runtime" || section.rfind("estimator.", 0) == 0) continue;
-    std::string message = "unknown section (expected [runtime] or [estimator.NAME])";
-    const std::string hint = closestMatch(section, {"runtime"});
+    if (section == "runtime" || section == "team" || section.rfind("estimator.", 0) == 0) continue;
+    std::string message = "unknown section (expected [runtime], [team] or [estimator.NAME])";
+    const std::string hint = closestMatch(section, {"runtime", "team"});
     if (!hint.empty()) message += " (did you mean '" + hint + "'?)";
     if (section.rfind("estimator", 0) == 0 || closestMatch(section.substr(0, 10), {"estimator."}) != "") {
       message = "unknown section (expected [estimator.NAME], with a dot)";
@@ -247,6 +278,8 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
   } else {
     config.plugin_path = default_plugin_path;
   }
+
+  if (ini.sections.count("team")) config.team = parseTeam(ini.sections["team"], sectionOrigin("team"));
 
   for (const auto& section : ini.section_order) {
     if (section.rfind("estimator.", 0) != 0) continue;
@@ -294,6 +327,21 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
   return config;
 }
 
+std::vector<EstimatorSection> teamRuns(const RunConfig& config, const EstimatorSection& section, bool team_plugin) {
+  if (!config.isTeam() || team_plugin) return {section};
+  std::vector<EstimatorSection> runs;
+  for (size_t r = 0; r < config.team.size(); ++r) {
+    EstimatorSection run = section;
+    const std::string suffix = "_" + config.team[r];
+    run.name += suffix;
+    run.robot = static_cast<int>(r);
+    for (std::string* channel : {&run.pose_channel, &run.map_channel, &run.trajectory_channel, &run.status_channel})
+      *channel += suffix;
+    runs.push_back(run);
+  }
+  return runs;
+}
+
 std::string formatConfig(const RunConfig& config, const std::vector<KeyValues>& plugin_effective) {
   std::ostringstream out;
   out << "# effective configuration of " << config.config_file << "\n";
@@ -303,6 +351,11 @@ std::string formatConfig(const RunConfig& config, const std::vector<KeyValues>& 
   Options runtime(KeyValues{});
   addRuntimeOptions(runtime, &copy);
   for (const auto& [key, value] : runtime.effective()) out << key << " = " << value << "\n";
+  if (config.isTeam()) {
+    out << "\n[team]\nrobots =";
+    for (const auto& robot : config.team) out << " " << robot;
+    out << "\n";
+  }
   for (size_t i = 0; i < config.estimators.size(); ++i) {
     EstimatorSection estimator = config.estimators[i];
     out << "\n[estimator." << estimator.name << "]\n";

@@ -48,6 +48,10 @@ struct EstimatorSection {
   Origin section_origin;  // the [estimator.NAME] line
   std::vector<Setting> plugin_settings;  // passed to the plugin
   std::string pose_channel, map_channel, trajectory_channel, status_channel;
+  // A team run: robot >= 0 for an instance of a one-robot plugin given robot `robot`'s inputs
+  // alone (named NAME_<robot>); -1 for an instance that sees every input (a robot alone, or a
+  // team plugin, whose poses and paths go to pose_channel / trajectory_channel + "_<robot>").
+  int robot = -1;
   // Fault handling (defaults from [runtime]): where the estimator runs, its time limits in
   // wall-clock seconds (0 = none), and its memory limit in MB (isolation = process only).
   bool isolated = false;
@@ -78,6 +82,10 @@ struct RunConfig {
   double idle_warning_s = 5.0;          // live mode: warn when an input channel is quiet this long
   int threads = 1;                      // worker threads for in-process estimators (default: cores)
   std::vector<EstimatorSection> estimators;
+  // [team] robots: empty for one robot (inputs on the channels above). A team's inputs are on
+  // <CHANNEL>_<robot> (ODOMETRY_A, RANGE_A, ROBOT_RANGE_A, INITIAL_POSE_A; BEACONS is shared).
+  std::vector<std::string> team;
+  bool isTeam() const { return !team.empty(); }
   std::vector<Setting> runtime_settings;  // as given, for --print-config
 
   bool isLive() const { return input.find("://") != std::string::npos; }
@@ -92,6 +100,11 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
 // plugins' effective values when `plugin_effective` holds them, in estimator order).
 std::string formatConfig(const RunConfig& config,
                          const std::vector<KeyValues>& plugin_effective = {});
+
+// The runs of one [estimator.NAME] section: the section itself, except in a team run for a plugin
+// that estimates one robot (team_plugin false): one copy per robot, named NAME_<robot>, its
+// outputs on POSE_NAME_<robot> etc. (a pose_channel set in the section gets "_<robot>").
+std::vector<EstimatorSection> teamRuns(const RunConfig& config, const EstimatorSection& section, bool team_plugin);
 
 }  // namespace runtime
 }  // namespace roam

@@ -59,6 +59,8 @@ class EstimatorInstance {
   void markFailed(const std::string& error) { record().fail(error); }
   virtual KeyValues effectiveConfig() = 0;
 
+  // A team estimator's robots, once, before any input (only for a plugin with set_team).
+  virtual bool setTeam(const std::vector<std::string>& robots) = 0;
   virtual bool setInitialPose(const roam_pose& pose) = 0;
   virtual bool setBeacons(const std::vector<roam_beacon>& beacons) = 0;
   virtual bool addOdometry(const roam_odometry& odometry) = 0;

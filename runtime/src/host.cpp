@@ -24,7 +24,42 @@ double secondsBetween(int64_t later, int64_t earlier) {
 Host::Host(const RunConfig& config, std::vector<EstimatorSlot> estimators, Sink* output_sink,
            Sink* input_sink)
     : config_(config), estimators_(std::move(estimators)), sink_(output_sink),
-      input_sink_(input_sink) {}
+      input_sink_(input_sink) {
+  if (!config_.isTeam()) {
+    inputs_[config_.odometry_channel] = {InputKind::kOdometry, 0};
+    inputs_[config_.range_channel] = {InputKind::kRange, 0};
+    inputs_[config_.initial_pose_channel] = {InputKind::kInitialPose, 0};
+  } else {
+    for (size_t r = 0; r < config_.team.size(); ++r) {
+      const int robot = static_cast<int>(r);
+      inputs_[config_.odometry_channel + "_" + config_.team[r]] = {InputKind::kOdometry, robot};
+      inputs_[config_.range_channel + "_" + config_.team[r]] = {InputKind::kRange, robot};
+      inputs_[std::string(channels::ROBOT_RANGE) + "_" + config_.team[r]] = {InputKind::kRobotRange, robot};
+      inputs_[config_.initial_pose_channel + "_" + config_.team[r]] = {InputKind::kInitialPose, robot};
+    }
+  }
+  inputs_[config_.beacons_channel] = {InputKind::kBeacons, 0};
+}
+
+const Host::Input* Host::input(const std::string& channel) const {
+  const auto it = inputs_.find(channel);
+  return it == inputs_.end() ? nullptr : &it->second;
+}
+
+bool Host::feeds(const EstimatorSlot& slot, int robot, int* as_robot) {
+  if (slot.section.robot < 0) {
+    *as_robot = robot;
+    return true;
+  }
+  *as_robot = 0;
+  return slot.section.robot == robot;
+}
+
+std::string Host::outputFor(const EstimatorSlot& slot, const std::string& channel, int robot) const {
+  if (!config_.isTeam() || slot.section.robot >= 0 || robot < 0 || robot >= static_cast<int>(config_.team.size()))
+    return channel;
+  return channel + "_" + config_.team[static_cast<size_t>(robot)];
+}
 
 template <typename Message>
 void Host::publish(const std::string& channel, const Message& message) {
@@ -69,13 +104,18 @@ bool decode(const void* data, int size, Message* message) {
 void Host::onEvent(const std::string& channel, int64_t event_utime, const void* data, int size) {
   ++counters_.events;
   if (input_sink_ != nullptr) input_sink_->write(channel, event_utime, data, size);
-  const bool odometry = channel == config_.odometry_channel;
-  if (!odometry && channel != config_.range_channel) {
+  const Input* in = input(channel);
+  const bool odometry = in != nullptr && in->kind == InputKind::kOdometry;
+  if (in == nullptr || (!odometry && in->kind != InputKind::kRange && in->kind != InputKind::kRobotRange)) {
     dispatch(channel, data, size);
     return;
   }
   int64_t utime = 0;
-  if (!decodeInputUtime(odometry, data, size, &utime)) {  // counted as undecodable when fed
+  roam::robot_range_t robot_range;
+  const bool decoded = in->kind == InputKind::kRobotRange ? decodeMessage(data, size, &robot_range) >= 0
+                                                          : decodeInputUtime(odometry, data, size, &utime);
+  if (in->kind == InputKind::kRobotRange) utime = robot_range.utime;
+  if (!decoded) {  // counted as undecodable when fed
     dispatch(channel, data, size);
     return;
   }
@@ -100,6 +140,7 @@ void Host::onEvent(const std::string& channel, int64_t event_utime, const void* 
   held.utime = utime;
   held.arrival = arrivals_++;
   held.odometry = odometry;
+  held.channel = channel;
   const auto* bytes = static_cast<const uint8_t*>(data);
   held.data.assign(bytes, bytes + size);
   // At equal stamps odometry first: a step stamped t is the motion up to t, and a range stamped t
@@ -116,8 +157,7 @@ void Host::releaseHeld(int64_t utime) {
   while (!held_.empty() && held_.front().utime <= utime) {
     const Held held = std::move(held_.front());
     held_.pop_front();
-    dispatch(held.odometry ? config_.odometry_channel : config_.range_channel, held.data.data(),
-             static_cast<int>(held.data.size()));
+    dispatch(held.channel, held.data.data(), static_cast<int>(held.data.size()));
   }
 }
 
@@ -138,16 +178,24 @@ void Host::dispatch(const std::string& channel, const void* data, int size) {
     cpu_before_[i] = estimators_[i].instance->failed() ? -1.0 : estimators_[i].instance->cpuTotalSeconds();
   }
   CpuHistogram EstimatorSlot::*update = nullptr;  // the per-update statistics this event counts in
-  if (channel == config_.odometry_channel) {
-    if (feedOdometry(data, size)) update = &EstimatorSlot::odometry_cpu;
-  } else if (channel == config_.range_channel) {
-    if (feedRange(data, size)) update = &EstimatorSlot::range_cpu;
-  } else if (channel == config_.initial_pose_channel) {
-    feedInitialPose(data, size);
-  } else if (channel == config_.beacons_channel) {
-    feedBeacons(data, size);
-  } else {
-    return;  // GROUND_TRUTH and anything else: not for the estimators
+  const Input* in = input(channel);
+  if (in == nullptr) return;  // GROUND_TRUTH and anything else: not for the estimators
+  switch (in->kind) {
+    case InputKind::kOdometry:
+      if (feedOdometry(channel, in->robot, data, size)) update = &EstimatorSlot::odometry_cpu;
+      break;
+    case InputKind::kRange:
+      if (feedRange(channel, in->robot, data, size)) update = &EstimatorSlot::range_cpu;
+      break;
+    case InputKind::kRobotRange:
+      if (feedRobotRange(channel, in->robot, data, size)) update = &EstimatorSlot::range_cpu;
+      break;
+    case InputKind::kInitialPose:
+      feedInitialPose(channel, in->robot, data, size);
+      break;
+    case InputKind::kBeacons:
+      feedBeacons(channel, data, size);
+      break;
   }
   for (auto& slot : estimators_) publishOutputs(slot, false);
   if (update == nullptr) return;
@@ -157,61 +205,94 @@ void Host::dispatch(const std::string& channel, const void* data, int size) {
   }
 }
 
-bool Host::feedOdometry(const void* data, int size) {
+bool Host::feedOdometry(const std::string& channel, int robot, const void* data, int size) {
   roam::odometry_t message;
   if (!decode(data, size, &message)) {
     ++counters_.undecodable;
-    ++counters_.undecodable_by_channel[config_.odometry_channel];
+    ++counters_.undecodable_by_channel[channel];
     return false;
   }
-  if (!acceptInOrder(config_.odometry_channel, message.utime, data, size)) return false;
+  if (!acceptInOrder(channel, message.utime, data, size)) return false;
   ++counters_.odometry;
-  if (last_odometry_utime_ != INT64_MIN &&
-      secondsBetween(message.utime, last_odometry_utime_) > config_.max_odometry_gap_s) {
+  auto last = last_odometry_utime_.try_emplace(channel, INT64_MIN).first;
+  if (last->second != INT64_MIN && secondsBetween(message.utime, last->second) > config_.max_odometry_gap_s) {
     ++counters_.odometry_gaps;
   }
-  last_odometry_utime_ = message.utime;
+  last->second = message.utime;
   newest_fed_utime_ = std::max(newest_fed_utime_, message.utime);
-  const roam_odometry odometry = fromMessage(message);
-  for (auto& slot : estimators_) slot.instance->addOdometry(odometry);
+  roam_odometry odometry = fromMessage(message);
+  for (auto& slot : estimators_) {
+    if (feeds(slot, robot, &odometry.robot)) slot.instance->addOdometry(odometry);
+  }
   return true;
 }
 
-bool Host::feedRange(const void* data, int size) {
+bool Host::feedRange(const std::string& channel, int robot, const void* data, int size) {
   roam::range_t message;
   if (!decode(data, size, &message)) {
     ++counters_.undecodable;
-    ++counters_.undecodable_by_channel[config_.range_channel];
+    ++counters_.undecodable_by_channel[channel];
     return false;
   }
-  if (!acceptInOrder(config_.range_channel, message.utime, data, size)) return false;
+  if (!acceptInOrder(channel, message.utime, data, size)) return false;
   ++counters_.ranges;
   newest_fed_utime_ = std::max(newest_fed_utime_, message.utime);
-  const roam_range range = fromMessage(message);
-  for (auto& slot : estimators_) slot.instance->addRange(range);
+  roam_range range = fromMessage(message);
+  for (auto& slot : estimators_) {
+    if (feeds(slot, robot, &range.robot)) slot.instance->addRange(range);
+  }
   return true;
 }
 
-void Host::feedInitialPose(const void* data, int size) {
+bool Host::feedRobotRange(const std::string& channel, int robot, const void* data, int size) {
+  roam::robot_range_t message;
+  if (!decode(data, size, &message)) {
+    ++counters_.undecodable;
+    ++counters_.undecodable_by_channel[channel];
+    return false;
+  }
+  if (!acceptInOrder(channel, message.utime, data, size)) return false;
+  const auto other = std::find(config_.team.begin(), config_.team.end(), message.other_robot);
+  if (other == config_.team.end() || other - config_.team.begin() == robot) {
+    ++counters_.robot_ranges_unknown;  // names no other member of the team: nobody can use it
+    return false;
+  }
+  ++counters_.robot_ranges;
+  newest_fed_utime_ = std::max(newest_fed_utime_, message.utime);
+  roam_range range{};
+  range.utime = message.utime;
+  range.range_m = message.range;
+  range.sigma_m = message.sigma;
+  range.robot = robot;
+  range.to_robot = static_cast<int32_t>(other - config_.team.begin()) + 1;
+  for (auto& slot : estimators_) {
+    if (slot.section.robot < 0) slot.instance->addRange(range);  // team estimators only
+  }
+  return true;
+}
+
+void Host::feedInitialPose(const std::string& channel, int robot, const void* data, int size) {
   roam::pose_t message;
   if (!decode(data, size, &message)) {
     ++counters_.undecodable;
-    ++counters_.undecodable_by_channel[config_.initial_pose_channel];
+    ++counters_.undecodable_by_channel[channel];
     return;
   }
-  if (!acceptInOrder(config_.initial_pose_channel, message.utime, data, size)) return;
-  const roam_pose pose = fromMessage(message);
-  for (auto& slot : estimators_) slot.instance->setInitialPose(pose);
+  if (!acceptInOrder(channel, message.utime, data, size)) return;
+  roam_pose pose = fromMessage(message);
+  for (auto& slot : estimators_) {
+    if (feeds(slot, robot, &pose.robot)) slot.instance->setInitialPose(pose);
+  }
 }
 
-void Host::feedBeacons(const void* data, int size) {
+void Host::feedBeacons(const std::string& channel, const void* data, int size) {
   roam::map_t message;
   if (!decode(data, size, &message)) {
     ++counters_.undecodable;
-    ++counters_.undecodable_by_channel[config_.beacons_channel];
+    ++counters_.undecodable_by_channel[channel];
     return;
   }
-  if (!acceptInOrder(config_.beacons_channel, message.utime, data, size)) return;
+  if (!acceptInOrder(channel, message.utime, data, size)) return;
   const std::vector<roam_beacon> beacons = fromMessage(message);
   for (auto& slot : estimators_) slot.instance->setBeacons(beacons);
 }
@@ -222,7 +303,7 @@ void Host::publishOutputs(EstimatorSlot& slot, bool force_status) {
     std::vector<roam_pose> poses;
     if (instance.pollPoses(&poses)) {
       for (const auto& pose : poses) {
-        publish(slot.section.pose_channel, toMessage(pose, slot.section.name));
+        publish(outputFor(slot, slot.section.pose_channel, pose.robot), toMessage(pose, slot.section.name));
         ++slot.poses_published;
       }
     }
@@ -255,7 +336,16 @@ void Host::publishTrajectory(EstimatorSlot& slot, bool force) {
   bool available = false;
   std::vector<roam_pose> poses;
   if (slot.instance->pollTrajectory(force, &available, &poses) && available) {
-    publish(slot.section.trajectory_channel, toMessage(poses, data_utime_, slot.section.name));
+    if (!config_.isTeam() || slot.section.robot >= 0) {
+      publish(slot.section.trajectory_channel, toMessage(poses, data_utime_, slot.section.name));
+    } else {
+      // A team estimator's path: one message per robot, each robot's poses in their order.
+      std::map<int, std::vector<roam_pose>> by_robot;
+      for (const auto& pose : poses) by_robot[pose.robot].push_back(pose);
+      for (const auto& [robot, path] : by_robot) {
+        publish(outputFor(slot, slot.section.trajectory_channel, robot), toMessage(path, data_utime_, slot.section.name));
+      }
+    }
     slot.last_trajectory_utime = data_utime_;
   }
   if (slot.instance->failed() && !slot.failure_reported) reportFailure(slot);
@@ -388,6 +478,9 @@ std::vector<std::string> Host::summary() const {
   std::ostringstream input;
   input << "input: " << counters_.events << " events, " << counters_.odometry << " odometry, "
         << counters_.ranges << " ranges";
+  if (config_.isTeam()) input << ", " << counters_.robot_ranges << " ranges between robots";
+  if (counters_.robot_ranges_unknown)
+    input << ", " << counters_.robot_ranges_unknown << " ranges to a robot not in [team] robots (skipped)";
   if (counters_.undecodable) {
     input << ", " << counters_.undecodable << " undecodable (skipped:";
     for (const auto& [channel, count] : counters_.undecodable_by_channel) {

@@ -11,6 +11,11 @@
 // Inputs are decoded and checked here, the same for every estimator: an event that does
 // not decode, a message whose utime goes backwards on its channel, or an exact duplicate is
 // skipped and counted. Estimators see message utimes only (never the receive time).
+//
+// A team run ([team] robots): each robot's inputs arrive on <CHANNEL>_<robot> and are fed with
+// that robot's index; ranges between robots (ROBOT_RANGE_<robot>) go to team estimators only. An
+// instance of a one-robot plugin made for robot r (EstimatorSection::robot) is fed robot r's
+// inputs alone, as robot 0, so it runs exactly as on that robot's own log.
 #pragma once
 
 #include <algorithm>
@@ -52,6 +57,8 @@ struct InputCounters {
   int64_t events = 0;
   int64_t odometry = 0;
   int64_t ranges = 0;
+  int64_t robot_ranges = 0;  // ranges between two robots of a team
+  int64_t robot_ranges_unknown = 0;  // ranges naming no other robot of [team] robots (skipped)
   int64_t undecodable = 0;
   int64_t out_of_order = 0;
   int64_t duplicates = 0;
@@ -98,11 +105,23 @@ class Host {
   void dispatch(const std::string& channel, const void* data, int size);
   // Feeds the held inputs stamped at or before `utime`, in (utime, odometry first, arrival) order.
   void releaseHeld(int64_t utime);
+  // An input channel: what it carries, and whose (the robot's index; 0 for a robot alone).
+  enum class InputKind { kOdometry, kRange, kRobotRange, kInitialPose, kBeacons };
+  struct Input {
+    InputKind kind;
+    int robot = 0;
+  };
+  const Input* input(const std::string& channel) const;
   // Each returns whether the message reached the estimators (false: skipped and counted).
-  bool feedOdometry(const void* data, int size);
-  bool feedRange(const void* data, int size);
-  void feedInitialPose(const void* data, int size);
-  void feedBeacons(const void* data, int size);
+  bool feedOdometry(const std::string& channel, int robot, const void* data, int size);
+  bool feedRange(const std::string& channel, int robot, const void* data, int size);
+  bool feedRobotRange(const std::string& channel, int robot, const void* data, int size);
+  void feedInitialPose(const std::string& channel, int robot, const void* data, int size);
+  void feedBeacons(const std::string& channel, const void* data, int size);
+  // Whether `slot` is given robot `robot`'s input, and the robot index it is given as.
+  static bool feeds(const EstimatorSlot& slot, int robot, int* as_robot);
+  // A team estimator's output channel for one robot: `channel` + "_<robot>"; others: `channel`.
+  std::string outputFor(const EstimatorSlot& slot, const std::string& channel, int robot) const;
   // Checks time order and duplicates on a channel; false if the message must be skipped.
   bool acceptInOrder(const std::string& channel, int64_t utime, const void* data, int size);
   void publishOutputs(EstimatorSlot& slot, bool force_status);
@@ -119,7 +138,8 @@ class Host {
   InputCounters counters_;
   int64_t data_utime_ = 0;
   bool have_data_utime_ = false;
-  int64_t last_odometry_utime_ = INT64_MIN;
+  std::map<std::string, Input> inputs_;  // by channel
+  std::map<std::string, int64_t> last_odometry_utime_;  // by channel
   struct ChannelHistory {
     int64_t last_utime = INT64_MIN;
     std::vector<uint8_t> last_payload;
@@ -132,6 +152,7 @@ class Host {
     int64_t utime = 0;
     uint64_t arrival = 0;
     bool odometry = false;
+    std::string channel;
     std::vector<uint8_t> data;
   };
   std::deque<Held> held_;

@@ -81,6 +81,10 @@ void serveChild(int fd, const std::shared_ptr<PluginLibrary>& library, const std
     const auto kind = in.pod<uint8_t>();
     Answer answer;
     switch (kind) {
+      case kTeam:
+        instance->setTeam(in.strs());
+        pollOutputs(*instance, &answer);
+        break;
       case kInitialPose:
         instance->setInitialPose(in.pod<roam_pose>());
         pollOutputs(*instance, &answer);

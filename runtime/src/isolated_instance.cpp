@@ -160,6 +160,13 @@ InstanceRecord& IsolatedInstance::record() {
   return record_;
 }
 
+bool IsolatedInstance::setTeam(const std::vector<std::string>& robots) {
+  if (failed()) return false;
+  wire::Writer out;
+  out.pod<uint8_t>(isolation::kTeam).strs(robots);
+  return send(out.bytes(), "set_team (" + std::to_string(robots.size()) + " robots)");
+}
+
 bool IsolatedInstance::setInitialPose(const roam_pose& pose) {
   if (failed()) return false;
   wire::Writer out;

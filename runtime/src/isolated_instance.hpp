@@ -44,6 +44,7 @@ class IsolatedInstance : public EstimatorInstance {
   InstanceRecord& record() override;
   KeyValues effectiveConfig() override { return effective_; }
 
+  bool setTeam(const std::vector<std::string>& robots) override;
   bool setInitialPose(const roam_pose& pose) override;
   bool setBeacons(const std::vector<roam_beacon>& beacons) override;
   bool addOdometry(const roam_odometry& odometry) override;

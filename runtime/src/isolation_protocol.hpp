@@ -27,7 +27,8 @@ enum Kind : uint8_t {
   kFinish,
   kPoll,        // outputs only (the host polls after an event no estimator was given)
   kTrajectory,  // then force (uint8)
-  kStatus
+  kStatus,
+  kTeam  // the team's robot names (strs)
 };
 
 struct Answer {

@@ -8,6 +8,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "quiet_bus.hpp"
+#include "roam/messages.hpp"
 
 namespace roam {
 namespace runtime {
@@ -136,12 +137,22 @@ int runLive(const RunConfig& config, std::vector<EstimatorSlot> slots, LogSink* 
     outputs.add(log_sink.get());
   }
   *host = std::make_unique<Host>(config, std::move(slots), &outputs, log_sink.get());
-  QuietBusWatch quiet({config.odometry_channel, config.range_channel}, config.idle_warning_s,
-                      std::chrono::system_clock::now());
+  // A team's inputs are on <CHANNEL>_<robot>, each robot's from its own host on the one bus.
+  std::vector<std::string> watched, subscribed;
+  const std::vector<std::string> suffixes = config.isTeam() ? config.team : std::vector<std::string>{""};
+  for (const std::string& robot : suffixes) {
+    const std::string suffix = robot.empty() ? "" : "_" + robot;
+    watched.push_back(config.odometry_channel + suffix);
+    watched.push_back(config.range_channel + suffix);
+    subscribed.push_back(config.initial_pose_channel + suffix);
+    subscribed.push_back(config.ground_truth_channel + suffix);
+    if (!robot.empty()) subscribed.push_back(std::string(channels::ROBOT_RANGE) + suffix);
+  }
+  subscribed.insert(subscribed.end(), watched.begin(), watched.end());
+  subscribed.push_back(config.beacons_channel);
+  QuietBusWatch quiet(watched, config.idle_warning_s, std::chrono::system_clock::now());
   Receiver receiver(host->get(), &quiet);
-  for (const std::string& channel :
-       {config.odometry_channel, config.range_channel, config.initial_pose_channel,
-        config.beacons_channel, config.ground_truth_channel}) {
+  for (const std::string& channel : subscribed) {
     bus.subscribe(channel, &Receiver::onMessage, &receiver)->setQueueCapacity(kInputQueueCapacity);
   }
   std::fprintf(stderr, "roam-run: live on %s (Ctrl-C to finish)\n", url.c_str());

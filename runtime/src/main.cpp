@@ -109,22 +109,32 @@ int main(int argc, char** argv) {
   // Load every plugin and create every instance before reading any data.
   std::vector<EstimatorSlot> slots;
   std::vector<roam::KeyValues> effective;
+  std::vector<EstimatorSection> expanded;  // the sections as run (a team's one-robot copies)
   for (const auto& section : config.estimators) {
     try {
       auto library = PluginLibrary::open(config.plugin_path, section.plugin);
       roam::KeyValues values;
       for (const auto& setting : section.plugin_settings) values.emplace_back(setting.key, setting.value);
-      EstimatorSlot slot;
-      slot.section = section;
-      const CallLimits limits{section.max_update_s, section.max_finish_s};
-      if (section.isolated) {
-        slot.instance = std::make_unique<IsolatedInstance>(library, section.name, values,
-                                                           IsolationLimits{limits, section.max_memory_mb});
-      } else {
-        slot.instance = std::make_unique<PluginInstance>(library, section.name, values, limits);
+      // A team run gives a one-robot plugin an instance per robot, NAME_<robot>, fed that robot's
+      // inputs alone; a team plugin one instance, told the team.
+      const std::vector<EstimatorSection> runs = teamRuns(config, section, library->estimatesTeams());
+      for (const EstimatorSection& run : runs) {
+        EstimatorSlot slot;
+        slot.section = run;
+        const CallLimits limits{run.max_update_s, run.max_finish_s};
+        if (run.isolated) {
+          slot.instance = std::make_unique<IsolatedInstance>(library, run.name, values,
+                                                             IsolationLimits{limits, run.max_memory_mb});
+        } else {
+          slot.instance = std::make_unique<PluginInstance>(library, run.name, values, limits);
+        }
+        if (config.isTeam() && run.robot < 0 && !slot.instance->setTeam(config.team)) {
+          throw PluginError(slot.instance->error());
+        }
+        effective.push_back(slot.instance->effectiveConfig());
+        slots.push_back(std::move(slot));
+        expanded.push_back(run);
       }
-      effective.push_back(slot.instance->effectiveConfig());
-      slots.push_back(std::move(slot));
     } catch (const PluginConfigError& error) {
       const Origin origin = error.key().empty() ? section.section_origin : section.originOf(error.key());
       std::string where = origin.describe() + " [estimator." + section.name + "]";
@@ -149,6 +159,7 @@ int main(int argc, char** argv) {
       slot.instance = std::make_unique<ThreadedInstance>(std::move(slot.instance), pool.get(), next++);
     }
   }
+  config.estimators = expanded;
   if (args.count("print-config")) {
     std::cout << formatConfig(config, effective);
     return 0;

@@ -245,6 +245,18 @@ KeyValues PluginInstance::effectiveConfig() {
   return out;
 }
 
+bool PluginInstance::setTeam(const std::vector<std::string>& robots) {
+  return call("set_team", [&] {
+    if (d_->set_team == nullptr) {
+      record_.fail("set_team: plugin " + plugin_name_ + " estimates one robot, not a team");
+      return ROAM_OK;
+    }
+    std::vector<const char*> names;
+    for (const auto& robot : robots) names.push_back(robot.c_str());
+    return d_->set_team(handle_, names.data(), static_cast<int32_t>(names.size()));
+  });
+}
+
 bool PluginInstance::setInitialPose(const roam_pose& pose) {
   return call("set_initial_pose", [&] { return d_->set_initial_pose(handle_, &pose); });
 }

@@ -55,6 +55,8 @@ class PluginLibrary {
   PluginLibrary& operator=(const PluginLibrary&) = delete;
 
   const roam_plugin_descriptor& descriptor() const { return *descriptor_; }
+  // The plugin estimates a team in one instance (its descriptor has set_team).
+  bool estimatesTeams() const { return descriptor_->set_team != nullptr; }
   const std::string& path() const { return path_; }
   // Plugin names found in a folder (libroam_<name>.so), sorted.
   static std::vector<std::string> available(const std::string& folder);
@@ -85,6 +87,7 @@ class PluginInstance : public EstimatorInstance {
   InstanceRecord& record() override { return record_; }
   KeyValues effectiveConfig() override;
 
+  bool setTeam(const std::vector<std::string>& robots) override;
   bool setInitialPose(const roam_pose& pose) override;
   bool setBeacons(const std::vector<roam_beacon>& beacons) override;
   bool addOdometry(const roam_odometry& odometry) override;

@@ -124,6 +124,10 @@ KeyValues ThreadedInstance::effectiveConfig() {
   return inner_->effectiveConfig();
 }
 
+bool ThreadedInstance::setTeam(const std::vector<std::string>& robots) {
+  return start([robots](EstimatorInstance& inner) { inner.setTeam(robots); }, false);
+}
+
 bool ThreadedInstance::setInitialPose(const roam_pose& pose) {
   return start([pose](EstimatorInstance& inner) { inner.setInitialPose(pose); }, false);
 }

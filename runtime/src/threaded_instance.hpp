@@ -56,6 +56,7 @@ class ThreadedInstance : public EstimatorInstance {
   InstanceRecord& record() override;
   KeyValues effectiveConfig() override;
 
+  bool setTeam(const std::vector<std::string>& robots) override;
   bool setInitialPose(const roam_pose& pose) override;
   bool setBeacons(const std::vector<roam_beacon>& beacons) override;
   bool addOdometry(const roam_odometry& odometry) override;

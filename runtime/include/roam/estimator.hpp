@@ -20,6 +20,12 @@ class Estimator {
  public:
   virtual ~Estimator() = default;
 
+  // A team estimator (a plugin defined with ROAM_DEFINE_TEAM_PLUGIN) is told its robots once,
+  // before any input; every input then carries its `robot` (an index into `robots`), a range to
+  // another robot its `other_robot`, and each start pose its robot. An estimator of one robot
+  // never gets this call (a team run gives each robot an instance of its own).
+  virtual void setTeam(const std::vector<std::string>& robots);
+
   // The known start pose (channel INITIAL_POSE): the anchor of `anchor = start_pose`.
   virtual void setInitialPose(const Pose& /*start*/) {}
   // Surveyed beacon positions (channel BEACONS); used only if the config says so.

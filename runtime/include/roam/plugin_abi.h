@@ -29,7 +29,7 @@ extern "C" {
 #endif
 
 /* Bump on any change to the structs or function table below. */
-#define ROAM_PLUGIN_ABI_VERSION 2u
+#define ROAM_PLUGIN_ABI_VERSION 3u
 #define ROAM_PLUGIN_ENTRY_SYMBOL "roam_plugin_entry"
 
 #define ROAM_OK 0
@@ -49,6 +49,7 @@ typedef struct roam_odometry {
   double lateral_m;
   double delta_heading_rad;
   double covariance[9]; /* row-major over (forward, lateral, heading); NaN where unknown */
+  int32_t robot;        /* the team member whose step it is (index into set_team's robots; 0 alone) */
 } roam_odometry;
 
 typedef struct roam_range {
@@ -58,6 +59,9 @@ typedef struct roam_range {
   double range_m;
   double sigma_m; /* <= 0: the estimator's configured value */
   double bearing_rad;
+  int32_t robot;    /* the team member that measured it (0 alone) */
+  int32_t to_robot; /* 0: to the fixed beacon beacon_id; k > 0: to team member k - 1 (so a
+                       zero-filled range is a beacon's) */
 } roam_range;
 
 typedef struct roam_pose {
@@ -66,6 +70,7 @@ typedef struct roam_pose {
   double y_m;
   double heading_rad;
   double covariance[9]; /* row-major over (x, y, heading); NaN where unknown */
+  int32_t robot;        /* the team member it is a pose of (0 alone) */
 } roam_pose;
 
 typedef struct roam_beacon {
@@ -157,6 +162,10 @@ typedef struct roam_plugin_descriptor {
   int (*get_status)(roam_handle h, roam_status* status);
   /* Why the last call failed; "" if it did not. Never NULL. */
   const char* (*last_error)(roam_handle h);
+  /* NULL: the plugin estimates one robot (a team run gives each robot an instance of its own).
+   * Otherwise it estimates a team: called once, before any input, with the team's robot names;
+   * inputs then carry `robot` (and a range `other_robot`), and poses name their robot. */
+  int (*set_team)(roam_handle h, const char* const* robots, int32_t num_robots);
 } roam_plugin_descriptor;
 
 typedef const roam_plugin_descriptor* (*roam_plugin_entry_fn)(void);

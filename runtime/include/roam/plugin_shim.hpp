@@ -62,6 +62,10 @@ struct Instance {
   std::unique_ptr<Estimator> estimator;
   double max_range_m = kDefaultMaxRange_m;  // the SDK's own option
   OdometryCheck odometry_check;             // holds the SDK's max_speed_mps option
+  // A team (set_team): each robot's own odometry check (its clock is its own); the self-check,
+  // which judges one robot's path against its dead reckoning, is not applied.
+  std::vector<std::string> team;
+  std::vector<OdometryCheck> team_odometry_checks;
   SelfCheck self_check;                     // the SDK's rule on what is published (self_check.hpp)
   std::string last_error;
   KeyValues effective;
@@ -119,11 +123,17 @@ int pollTrajectory(roam_handle h, int32_t force, int32_t* available, const roam_
                    int32_t* num_poses);
 int getStatus(roam_handle h, roam_status* status);
 const char* lastError(roam_handle h);
+int setTeam(roam_handle h, const char* const* robots, int32_t num_robots);
 
 }  // namespace shim
 }  // namespace roam
 
-#define ROAM_DEFINE_PLUGIN(NAME, DESCRIPTION, FACTORY)                                          \
+// A plugin that estimates one robot: ROAM_DEFINE_PLUGIN. One that estimates a team (its
+// Estimator overrides setTeam and reads each input's `robot`): ROAM_DEFINE_TEAM_PLUGIN.
+#define ROAM_DEFINE_PLUGIN(NAME, DESCRIPTION, FACTORY) ROAM_DEFINE_PLUGIN_WITH_TEAM(NAME, DESCRIPTION, FACTORY, nullptr)
+#define ROAM_DEFINE_TEAM_PLUGIN(NAME, DESCRIPTION, FACTORY) \
+  ROAM_DEFINE_PLUGIN_WITH_TEAM(NAME, DESCRIPTION, FACTORY, &::roam::shim::setTeam)
+#define ROAM_DEFINE_PLUGIN_WITH_TEAM(NAME, DESCRIPTION, FACTORY, SET_TEAM)                     \
   extern "C" {                                                                                  \
   static roam_handle roam_shim_create(const roam_kv* c, int32_t n, roam_error* e) {             \
     return ::roam::shim::create(&FACTORY, c, n, e);                                             \
@@ -148,6 +158,7 @@ const char* lastError(roam_handle h);
         &::roam::shim::pollTrajectory,                                                          \
         &::roam::shim::getStatus,                                                               \
         &::roam::shim::lastError,                                                               \
+        SET_TEAM,                                                                               \
     };                                                                                          \
     return &descriptor;                                                                         \
   }                                                                                             \

@@ -15,6 +15,7 @@
 #include "roam/odometry_t.hpp"
 #include "roam/pose_t.hpp"
 #include "roam/range_t.hpp"
+#include "roam/robot_range_t.hpp"
 #include "roam/trajectory_t.hpp"
 
 namespace roam {
@@ -24,6 +25,7 @@ namespace roam {
 // odometry_t also reads the older odometry_v1_t layout (lateral 0, covariance NaN).
 int decodeMessage(const void* data, int size, roam::odometry_t* message);
 int decodeMessage(const void* data, int size, roam::range_t* message);
+int decodeMessage(const void* data, int size, roam::robot_range_t* message);
 int decodeMessage(const void* data, int size, roam::pose_t* message);
 int decodeMessage(const void* data, int size, roam::map_t* message);
 int decodeMessage(const void* data, int size, roam::trajectory_t* message);
