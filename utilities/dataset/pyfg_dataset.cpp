@@ -1,5 +1,7 @@
 #include "pyfg_dataset.hpp"
 
+#include "pyfg_parse.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -16,109 +18,12 @@
 #include <vector>
 
 namespace roam {
-namespace {
 
-struct Line {
-  std::string file;
-  long number = 0;
-  std::vector<std::string> fields;
-
-  [[noreturn]] void fail(const std::string& what) const {
-    throw std::runtime_error(file + ":" + std::to_string(number) + ": " + printable(what));
-  }
-  // Bytes that are not printable ASCII as \xNN, so a binary line cannot garble a terminal.
-  static std::string printable(const std::string& text) {
-    std::string out;
-    for (unsigned char c : text) {
-      if (c >= 0x20 && c < 0x7f) {
-        out += static_cast<char>(c);
-      } else {
-        char hex[5];
-        std::snprintf(hex, sizeof hex, "\\x%02X", c);
-        out += hex;
-      }
-    }
-    return out;
-  }
-  void expectFields(size_t count, const char* layout) const {
-    if (fields.size() != count) {
-      fail(fields[0] + ": expected " + std::to_string(count - 1) + " fields (" + layout + "), got " +
-           std::to_string(fields.size() - 1));
-    }
-  }
-  double number_at(size_t i, const char* what) const {
-    const std::string& text = fields[i];
-    errno = 0;
-    char* end = nullptr;
-    const double value = std::strtod(text.c_str(), &end);
-    if (end == text.c_str() || *end != '\0' || errno == ERANGE || !std::isfinite(value)) {
-      fail(fields[0] + ": " + what + ": expected a number, got '" + text + "'");
-    }
-    return value;
-  }
-};
-
-// "A12" -> ('A', 12); "L3" -> ('L', 3); false if not a letter followed by digits.
-bool splitName(const std::string& name, int* letter, int* index) {
-  if (name.size() < 2 || !std::isalpha(static_cast<unsigned char>(name[0]))) return false;
-  for (size_t i = 1; i < name.size(); ++i) {
-    if (!std::isdigit(static_cast<unsigned char>(name[i]))) return false;
-  }
-  if (name.size() > 10) return false;
-  *letter = name[0];
-  *index = std::atoi(name.c_str() + 1);
-  return true;
-}
-
-int64_t secondsToUtime(double seconds) { return static_cast<int64_t>(std::llround(seconds * 1e6)); }
-
-// The unit of the file's time stamps: `given` (seconds per unit) or, given 0, the largest of s,
-// ms, us and ns that puts the latest time within 1e11 s.
-double timeUnit(double given, double latest) {
-  if (given > 0.0) return given;
-  for (double unit : {1.0, 1e-3, 1e-6, 1e-9}) {
-    if (std::abs(latest) * unit <= 1e11) return unit;
-  }
-  return 1e-9;
-}
-
-const char* unitName(double unit_s) {
-  if (unit_s == 1.0) return "seconds";
-  if (unit_s == 1e-3) return "milliseconds";
-  if (unit_s == 1e-6) return "microseconds";
-  if (unit_s == 1e-9) return "nanoseconds";
-  return "the given unit";
-}
-
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
-}
-
-struct RawEdge {
-  long line;
-  int from, to;
-  double dx, dy, dtheta;
-  double cov[6];
-};
-
-struct RawRange {
-  long line;
-  int pose;
-  int beacon;
-  double range_m, variance;
-};
-
-// EDGE_SE2_XY: a beacon's position (dx, dy) in the robot's frame at a pose, and its covariance.
-struct RawSighting {
-  long line;
-  int pose;
-  int beacon;
-  double dx, dy, c11, c12, c22;
-};
-
-}  // namespace
+using pyfg::Line;
+using pyfg::RawEdge;
+using pyfg::RawRange;
+using pyfg::RawSighting;
+using pyfg::splitName;
 
 PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& options) {
   std::ifstream in(path);
@@ -139,11 +44,11 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
       if (letter != except) letters += std::string(letters.empty() ? "" : ", ") + static_cast<char>(letter);
     return letters;
   };
-  std::map<int, Pose> poses;  // index -> reference pose (heading as in the file)
-  std::map<int, long> pose_line;
-  std::map<int, double> pose_time;  // index -> the file's time stamp, in the file's unit
+  pyfg::RawPoses raw;  // the robot read's poses (heading as in the file) and odometry edges
+  std::map<int, Pose>& poses = raw.poses;
+  std::map<int, long>& pose_line = raw.line;
   std::map<int, Beacon> beacons;
-  std::vector<RawEdge> edges;
+  std::vector<RawEdge>& edges = raw.edges;
   std::vector<RawRange> ranges;
   std::vector<RawSighting> sightings;
   // What PyFactorGraph writes beside odometry and ranges, which roam's estimators do not take:
@@ -175,9 +80,8 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
     if (!poses.count(index)) l.fail(std::string(role) + " '" + name + "' has no VERTEX_SE2");
     return index;
   };
-  // A set-aside line's numbers are checked like the rest.
-  auto checkNumbers = [&](const Line& l, size_t first, size_t end, size_t measurements) {
-    for (size_t i = first; i < end; ++i) l.number_at(i, i < first + measurements ? "measurement" : "covariance");
+  auto checkNumbers = [](const Line& l, size_t first, size_t end, size_t measurements) {
+    l.checkNumbers(first, end, measurements);
   };
   // With --robot: a line on one pose of another robot is checked and set aside (true).
   auto setAsideIfOtherRobot = [&](const Line& l, const std::string& name, const char* role, size_t first, size_t end,
@@ -215,32 +119,12 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
         continue;
       }
       if (poses.count(index)) line.fail("VERTEX_SE2: pose '" + line.fields[2] + "' given twice (first on line " + std::to_string(pose_line[index]) + ")");
-      Pose pose;
-      pose_time[index] = line.number_at(1, "time");
-      pose.x_m = line.number_at(3, "x");
-      pose.y_m = line.number_at(4, "y");
-      pose.heading_rad = line.number_at(5, "theta");
-      poses[index] = pose;
+      poses[index] = pyfg::readPose(line, &raw.time[index]);
       pose_line[index] = line.number;
     } else if (type == "VERTEX_XY") {
-      line.expectFields(4, "name x y");
-      int letter = 0, index = 0;
-      if (!splitName(line.fields[1], &letter, &index) || letter != 'L') line.fail("VERTEX_XY: '" + line.fields[1] + "' is not a beacon name (L and an index, e.g. L3)");
-      if (beacons.count(index)) line.fail("VERTEX_XY: beacon '" + line.fields[1] + "' given twice");
-      Beacon beacon;
-      beacon.id = index;
-      beacon.x_m = line.number_at(2, "x");
-      beacon.y_m = line.number_at(3, "y");
-      beacons[index] = beacon;
+      pyfg::readBeacon(line, &beacons);
     } else if (type == "VERTEX_XY:PRIOR") {
-      line.expectFields(8, "time name x y c11 c12 c22");
-      int letter = 0, index = 0;
-      if (!splitName(line.fields[2], &letter, &index) || letter != 'L' || !beacons.count(index))
-        line.fail("VERTEX_XY:PRIOR: '" + line.fields[2] + "' is not a beacon given by an earlier VERTEX_XY");
-      Beacon& beacon = beacons[index];
-      const double c11 = line.number_at(5, "c11"), c12 = line.number_at(6, "c12"), c22 = line.number_at(7, "c22");
-      if (!(c11 > 0.0 && c22 > 0.0 && c11 * c22 - c12 * c12 > 0.0)) line.fail("VERTEX_XY:PRIOR: covariance is not positive definite");
-      beacon.covariance = {c11, c12, c12, c22};
+      pyfg::readBeaconPrior(line, &beacons);
     } else if (type == "EDGE_SE2") {
       line.expectFields(13, "time from to dx dy dtheta and 6 covariance values");
       const bool other_from = ofOtherRobot(line, line.fields[2], "EDGE_SE2: from");
@@ -259,10 +143,7 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
         loop_closures.add(line.number);
         continue;
       }
-      edge.dx = line.number_at(4, "dx");
-      edge.dy = line.number_at(5, "dy");
-      edge.dtheta = line.number_at(6, "dtheta");
-      for (int i = 0; i < 6; ++i) edge.cov[i] = line.number_at(7 + i, "covariance");
+      pyfg::readEdgeNumbers(line, &edge);
       edges.push_back(edge);
     } else if (type == "EDGE_RANGE") {
       line.expectFields(6, "time a b range variance");
@@ -284,10 +165,7 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
       range.line = line.number;
       range.beacon = b1 >= 0 ? b1 : b2;
       range.pose = poseIndex(line, b1 >= 0 ? line.fields[3] : line.fields[2], "EDGE_RANGE: pose");
-      range.range_m = line.number_at(4, "range");
-      range.variance = line.number_at(5, "variance");
-      if (!(range.range_m > 0.0)) line.fail("EDGE_RANGE: range must be > 0, got '" + line.fields[4] + "'");
-      if (range.variance < 0.0) line.fail("EDGE_RANGE: variance must be >= 0, got '" + line.fields[5] + "'");
+      pyfg::readRangeNumbers(line, &range);
       ranges.push_back(range);
     } else if (type.find("SE3") != std::string::npos || type.find("XYZ") != std::string::npos) {
       line.fail(type + ": 3-D data is not supported (roam is 2-D)");
@@ -305,14 +183,7 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
       sighting.pose = poseIndex(line, line.fields[2], "EDGE_SE2_XY: pose");
       sighting.beacon = beaconIndex(line, line.fields[3]);
       if (sighting.beacon < 0) line.fail("EDGE_SE2_XY: '" + line.fields[3] + "' is not a beacon name (e.g. L3)");
-      sighting.dx = line.number_at(4, "dx");
-      sighting.dy = line.number_at(5, "dy");
-      sighting.c11 = line.number_at(6, "covariance");
-      sighting.c12 = line.number_at(7, "covariance");
-      sighting.c22 = line.number_at(8, "covariance");
-      if (!(std::hypot(sighting.dx, sighting.dy) > 0.0)) line.fail("EDGE_SE2_XY: the beacon is at the pose (dx = dy = 0): no range");
-      if (sighting.c11 < 0.0 || sighting.c22 < 0.0 || sighting.c11 * sighting.c22 < sighting.c12 * sighting.c12)
-        line.fail("EDGE_SE2_XY: covariance is not positive semi-definite");
+      pyfg::readSightingNumbers(line, &sighting);
       sightings.push_back(sighting);
     } else {
       line.fail("unknown type '" + type + "'");
@@ -324,65 +195,18 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
   }
   if (poses.empty()) throw std::runtime_error(path + ": no VERTEX_SE2 (a pyfg run needs poses)");
   // Poses must be A<first>, A<first+1>, ... with one edge into each but the first.
-  const int first = poses.begin()->first;
-  int expected = first;
-  for (const auto& [index, pose] : poses) {
-    if (index != expected) {
-      throw std::runtime_error(path + ":" + std::to_string(pose_line.at(index)) + ": pose " +
-                               static_cast<char>(*robot) + std::to_string(index) + " follows " +
-                               static_cast<char>(*robot) + std::to_string(expected - 1) +
-                               ": poses must be numbered without gaps");
-    }
-    ++expected;
-  }
+  pyfg::checkNumbering(path, *robot, raw);
   double latest = 0.0;
-  for (const auto& [index, time] : pose_time) latest = std::max(latest, std::abs(time));
-  const double unit_s = timeUnit(options.time_unit_s, latest);
-  if (options.pose_interval_s <= 0.0 && latest * unit_s > 9e12) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.17g", latest);
-    throw std::runtime_error(path + ": a pose time of " + text + " is beyond 9e12 s in " + unitName(unit_s) +
-                             " (roam's clock counts microseconds in 64 bits); choose the unit with --time-unit s|ms|us|ns");
-  }
-  for (auto& [index, pose] : poses) pose.utime = secondsToUtime(pose_time.at(index) * unit_s);
-  if (options.pose_interval_s > 0.0) {
-    for (auto& [index, pose] : poses) pose.utime = secondsToUtime(options.pose_interval_s * (index - first));
-  } else if (poses.size() > 1 && poses.begin()->second.utime == poses.rbegin()->second.utime) {
-    char at_s[32];
-    std::snprintf(at_s, sizeof at_s, "%.6g", 1e-6 * static_cast<double>(poses.begin()->second.utime));
-    throw std::runtime_error(path + ": every VERTEX_SE2 is at time " + at_s +
-                             " s: the file carries no pose times, and the estimators need them (rates, speeds, a "
-                             "gyro's drift); give the time between poses with --pose-interval-s SECONDS");
-  }
-  std::map<int, const RawEdge*> edge_into;
-  for (const RawEdge& edge : edges) {
-    if (edge_into.count(edge.to)) {
-      throw std::runtime_error(path + ":" + std::to_string(edge.line) + ": a second odometry edge into " +
-                               static_cast<char>(*robot) + std::to_string(edge.to));
-    }
-    edge_into[edge.to] = &edge;
-  }
-  for (const auto& [index, pose] : poses) {
-    if (index == first) continue;
-    if (!edge_into.count(index)) {
-      throw std::runtime_error(path + ":" + std::to_string(pose_line.at(index)) + ": pose " +
-                               static_cast<char>(*robot) + std::to_string(index) + " has no EDGE_SE2 from " +
-                               static_cast<char>(*robot) + std::to_string(index - 1));
-    }
-    if (pose.utime < poses.at(index - 1).utime) {
-      throw std::runtime_error(path + ":" + std::to_string(pose_line.at(index)) + ": pose time goes backwards");
-    }
-  }
+  for (const auto& [index, time] : raw.time) latest = std::max(latest, std::abs(time));
+  const double unit_s = pyfg::resolveTimeUnit(path, options, latest);
+  pyfg::stampPoses(path, options, unit_s, &raw);
+  const std::map<int, const RawEdge*> edge_into = pyfg::edgesInto(path, *robot, raw);
 
   PyfgImport result;
   result.robot_letter = *robot;
   result.time_unit_s = unit_s;
-  if (unit_s != 1.0 && options.time_unit_s == 0.0 && options.pose_interval_s <= 0.0) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.17g", latest);
-    result.notes.push_back(path + ": pose times read as " + unitName(unit_s) + " (the latest, " + text +
-                           ", is beyond 1e11 s); --time-unit s|ms|us|ns chooses another unit");
-  }
+  const std::string unit_note = pyfg::timeUnitNote(path, options, unit_s, latest);
+  if (!unit_note.empty()) result.notes.push_back(unit_note);
   auto note = [&](const LineTally& set_aside, const std::string& what, const std::string& why) {
     if (set_aside.count == 0) return;
     result.notes.push_back(path + ":" + std::to_string(set_aside.first_line) + ": set aside " +
@@ -402,74 +226,11 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
     std::snprintf(interval_s, sizeof interval_s, "%.6g", options.pose_interval_s);
     result.notes.push_back(path + ": pose i is at i x " + interval_s + " s (--pose-interval-s); the file's pose times are set aside");
   }
-  ForwardAxis axis = options.forward_axis;
-  if (axis == ForwardAxis::kAuto) {
-    std::vector<double> abs_dx, abs_dy;
-    for (const RawEdge& edge : edges) {
-      abs_dx.push_back(std::abs(edge.dx));
-      abs_dy.push_back(std::abs(edge.dy));
-    }
-    axis = median(abs_dy) > 2.0 * median(abs_dx) ? ForwardAxis::kY : ForwardAxis::kX;
-  }
-  result.forward_axis = axis;
-  const bool y_forward = axis == ForwardAxis::kY;
-  const double heading_offset = y_forward ? M_PI / 2 : 0.0;
-
+  result.forward_axis = pyfg::resolveForwardAxis(options.forward_axis, edges);
+  const bool y_forward = result.forward_axis == ForwardAxis::kY;
   Dataset& d = result.dataset;
-  for (const auto& [index, pose] : poses) {
-    Pose p = pose;
-    p.heading_rad = pose.heading_rad + heading_offset;
-    d.ground_truth.push_back(p);
-  }
-  d.start = d.ground_truth.front();
-  for (const auto& [index, pose] : poses) {
-    if (index == first) continue;
-    const RawEdge& e = *edge_into.at(index);
-    Odometry o;
-    o.utime = pose.utime;
-    o.delta_heading_rad = e.dtheta;
-    // File covariance over (dx, dy, dtheta), upper triangle row by row.
-    const double c[3][3] = {{e.cov[0], e.cov[1], e.cov[2]}, {e.cov[1], e.cov[3], e.cov[4]}, {e.cov[2], e.cov[4], e.cov[5]}};
-    // roam's (forward, lateral, heading) = P (dx, dy, dtheta).
-    int from[3] = {0, 1, 2};
-    double sign[3] = {1.0, 1.0, 1.0};
-    if (y_forward) {
-      from[0] = 1;  // forward = dy
-      from[1] = 0;  // lateral = -dx
-      sign[1] = -1.0;
-    }
-    const double raw[3] = {e.dx, e.dy, e.dtheta};
-    o.forward_m = sign[0] * raw[from[0]];
-    o.lateral_m = sign[1] * raw[from[1]];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) o.covariance[3 * i + j] = sign[i] * sign[j] * c[from[i]][from[j]];
-    d.odometry.push_back(o);
-  }
+  d = pyfg::robotRun(raw, edge_into, ranges, sightings, y_forward, 0);
   for (const auto& [index, beacon] : beacons) d.beacons.push_back(beacon);
-  for (const RawRange& r : ranges) {
-    Range range;
-    range.utime = poses.at(r.pose).utime;
-    range.beacon_id = r.beacon;
-    range.range_m = r.range_m;
-    range.sigma_m = std::sqrt(r.variance);
-    d.ranges.push_back(range);
-  }
-  // A sighting is a range with a bearing: range |d|, bearing atan2(lateral, forward) in roam's
-  // body frame, range sigma the covariance along d (u' C u, u = d / |d|).
-  for (const RawSighting& s : sightings) {
-    const double forward = y_forward ? s.dy : s.dx, lateral = y_forward ? -s.dx : s.dy;
-    Range range;
-    range.utime = poses.at(s.pose).utime;
-    range.beacon_id = s.beacon;
-    range.range_m = std::hypot(s.dx, s.dy);
-    const double ux = s.dx / range.range_m, uy = s.dy / range.range_m;
-    range.sigma_m = std::sqrt(ux * ux * s.c11 + 2.0 * ux * uy * s.c12 + uy * uy * s.c22);
-    range.has_bearing = true;
-    range.bearing_rad = std::atan2(lateral, forward);
-    d.ranges.push_back(range);
-  }
-  std::stable_sort(d.ranges.begin(), d.ranges.end(),
-                   [](const Range& a, const Range& b) { return a.utime < b.utime; });
   if (d.ranges.empty()) {
     std::string why = ranges_to_robots > 0 ? ": its " + std::to_string(ranges_to_robots) +
                                                  " range(s) are all to other robots (set aside)"
