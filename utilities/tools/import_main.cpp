@@ -3,7 +3,9 @@
 // A run in the CSV layout of data/plaza1 (see utilities/dataset/csv_dataset.hpp) or a
 // pyfg file (utilities/dataset/pyfg_dataset.hpp) to an LCM log (see dataset_log.hpp). The format
 // is known from the argument (a folder: csv; a name ending in .pyfg: pyfg) or --format. Prints
-// a one-line summary; exit 2 with a one-line error.
+// a one-line summary; exit 2 with a one-line error. A pyfg file of several robots without
+// --robot is read whole (utilities/dataset/pyfg_team.hpp) and written as a team log, with a
+// summary line per robot and the [team] config line that names its robots.
 #include <boost/program_options.hpp>
 #include <algorithm>
 #include <cmath>
@@ -19,6 +21,7 @@
 #include "csv_dataset.hpp"
 #include "dataset_log.hpp"
 #include "pyfg_dataset.hpp"
+#include "pyfg_team.hpp"
 
 namespace po = boost::program_options;
 
@@ -33,6 +36,37 @@ double runSeconds(const roam::Dataset& dataset) {
   return 1e-6 * static_cast<double>(last - dataset.start.utime);
 }
 
+// A pyfg file of several robots as a team log: a line for the log, one per robot, the beacons,
+// the [team] config line, then the notes.
+int importTeam(const std::string& file, const std::string& output, const roam::PyfgImportOptions& options,
+               bool auto_axis) {
+  const roam::TeamImport imported = roam::loadPyfgTeam(file, options);
+  const roam::TeamDataset& team = imported.team;
+  const roam::TeamLogWriteSummary s = roam::writeTeamLog(output, team);
+  long robot_ranges = 0;
+  for (long count : s.robot_ranges) robot_ranges += count;
+  std::printf("roam-import: %s: a team of %zu robots, %ld events (%ld ranges between robots, %ld beacons); body "
+              "frame forward axis %s%s\n",
+              output.c_str(), team.robots.size(), s.events, robot_ranges, s.beacons,
+              imported.forward_axis == roam::ForwardAxis::kY ? "+y (headings + pi/2)" : "+x", auto_axis ? " (auto)" : "");
+  for (size_t r = 0; r < team.robots.size(); ++r) {
+    const roam::Dataset& d = team.members[r];
+    const roam::LogWriteSummary& m = s.members[r];
+    std::printf("roam-import: robot %s: %ld odometry, %ld ranges to beacons, %ld ranges to robots, %ld ground truth, "
+                "%.3f s from utime %lld\n",
+                team.robots[r].c_str(), m.odometry, m.ranges, s.robot_ranges[r], m.ground_truth, runSeconds(d),
+                static_cast<long long>(d.start.utime));
+  }
+  std::string ids;
+  for (const roam::Beacon& b : team.beacons) ids += (ids.empty() ? " (ids " : " ") + std::to_string(b.id);
+  std::printf("roam-import: the team's beacons: %zu%s\n", team.beacons.size(), ids.empty() ? "" : (ids + ")").c_str());
+  std::string names;
+  for (const std::string& name : team.robots) names += " " + name;
+  std::printf("roam-import: config: [team] robots =%s\n", names.c_str());
+  for (const std::string& note : imported.notes) std::printf("roam-import: note: %s\n", note.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -45,7 +79,9 @@ int main(int argc, char** argv) {
       "groundtruth.csv and landmarks.csv) to an LCM log with INITIAL_POSE, BEACONS, GROUND_TRUTH,\n"
       "ODOMETRY, RANGE (no groundtruth.csv: the start pose is the origin, heading 0, or the first\n"
       "row of --odometry-from-path)\n"
-      "roam-import FILE.pyfg -o LOG: the same from a pyfg file (2-D, one robot a run: --robot)");
+      "roam-import FILE.pyfg -o LOG: the same from a pyfg file (2-D); a file of several robots\n"
+      "without --robot: a team log (INITIAL_POSE_<R>, GROUND_TRUTH_<R>, ODOMETRY_<R>, RANGE_<R>,\n"
+      "ROBOT_RANGE_<R> per robot R, BEACONS), a summary per robot and the [team] config line");
   visible.add_options()
       ("help,h", "this help")
       ("output,o", po::value(&output), "the LCM log to write (required)")
@@ -61,7 +97,7 @@ int main(int argc, char** argv) {
        "latest time within 1e11 s: published runs stamp poses in nanoseconds)")
       ("robot", po::value(&robot),
        "pyfg: the LETTER of the robot to read from a file of several (A, B, ...); the other robots' "
-       "lines and the ranges between robots are set aside with a note")
+       "lines and the ranges between robots are set aside with a note (without it: the whole team)")
       ("heading-offset", po::value(&heading_offset)->default_value(heading_offset),
        "RAD added to every ground-truth heading (e.g. 3.14159265 for reversed headings), or auto: "
        "measured, and applied where the ground truth's heading is its direction of travel plus a "
@@ -99,6 +135,7 @@ int main(int argc, char** argv) {
       }
       if (!vm["heading-offset"].defaulted() || !options.odometry_from_path.empty())
         throw std::runtime_error("--heading-offset and --odometry-from-path are for the CSV layout, not pyfg");
+      if (pyfg.robot == 0 && roam::pyfgRobotLetters(dir).size() > 1) return importTeam(dir, output, pyfg, forward_axis == "auto");
       const roam::PyfgImport imported = roam::loadPyfgDataset(dir, pyfg);
       const roam::Dataset& dataset = imported.dataset;
       const roam::LogWriteSummary s = roam::writeDatasetLog(output, dataset);
