@@ -1,5 +1,7 @@
 // roam-sim -o LOG [options]: a seeded synthetic run (roam::sim::simulate, utilities/sim/sim.hpp)
 // written as the same kind of log roam-import writes. The same options give the same log.
+// --robots N (N >= 2): a team run (roam::sim::simulateTeam, utilities/sim/team_sim.hpp) written
+// as a team log (writeTeamLog).
 #include <boost/program_options.hpp>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +13,7 @@
 #include "csv_dataset.hpp"
 #include "dataset_log.hpp"
 #include "sim.hpp"
+#include "team_sim.hpp"
 
 namespace po = boost::program_options;
 
@@ -28,12 +31,22 @@ int main(int argc, char** argv) {
   std::vector<std::string> range_gaps;
   double start_x = 0, start_y = 0, start_heading = 0, range_latency_s = 0;
   long long start_utime = c.start_utime;
+  roam::sim::TeamSimConfig team;
   po::options_description visible("roam-sim -o LOG [options]: a seeded synthetic range-only SLAM run");
   // clang-format off
   visible.add_options()
       ("help,h", "this help")
       ("output,o", po::value(&output), "the LCM log to write (required)")
       ("seed", po::value(&c.seed)->default_value(c.seed), "random seed")
+      ("robots", po::value(&team.num_robots)->default_value(1),
+       "N >= 2: a team run (robots A, B, ... each on the path from its own start, own noise; ranges "
+       "between robots; a team log with ODOMETRY_A, ROBOT_RANGE_A, ...); 1: one robot")
+      ("robot-range-rate-hz", po::value(&team.robot_range_rate_hz)->default_value(team.robot_range_rate_hz),
+       "team: ranges per second per pair of robots (round robin over the pairs; noise and outliers as "
+       "for beacons)")
+      ("robot-spacing", po::value(&team.robot_spacing_m)->default_value(team.robot_spacing_m),
+       "team: metres between neighbouring starts (to the left of --start-heading; robot i's heading "
+       "turned by 2 pi i / N)")
       ("steps", po::value(&c.num_steps)->default_value(c.num_steps), "odometry steps (poses = steps + 1)")
       ("dt", po::value(&c.dt_s)->default_value(c.dt_s), "seconds per step")
       ("speed", po::value(&c.speed_mps)->default_value(c.speed_mps), "m/s")
@@ -54,7 +67,7 @@ int main(int argc, char** argv) {
       ("loop-radius", po::value(&c.loop_radius_m)->default_value(c.loop_radius_m), "loop radius; figure-8 lobes; racetrack turns (m)")
       ("turn-rate-sigma", po::value(&c.turn_rate_sigma_radps)->default_value(c.turn_rate_sigma_radps),
        "random walk: turn-rate std (rad/s)")
-      ("beacons", po::value(&c.num_beacons)->default_value(c.num_beacons), "number of random beacons")
+      ("beacons", po::value(&c.num_beacons)->default_value(c.num_beacons), "number of random beacons (a team: 0 allowed)")
       ("beacons-csv", po::value(&beacons_csv), "FILE: beacons as beacon_id,x_m,y_m instead of random ones")
       ("beacon-margin", po::value(&c.beacon_margin_m)->default_value(c.beacon_margin_m), "margin around the area (m)")
       ("odo-distance-sigma-rel", po::value(&c.odo_distance_sigma_rel)->default_value(c.odo_distance_sigma_rel),
@@ -151,12 +164,32 @@ int main(int argc, char** argv) {
     else if (schedule == "round_robin") c.schedule = roam::sim::RangeSchedule::kRoundRobin;
     else throw std::runtime_error("--schedule: expected all | round_robin, got '" + schedule + "'");
     if (!beacons_csv.empty()) c.beacons = roam::loadLandmarksCsv(beacons_csv);
-    else require(c.num_beacons > 0, "--beacons: expected > 0");
+    else require(c.num_beacons > 0 || (team.num_robots >= 2 && c.num_beacons == 0),
+                 "--beacons: expected > 0 (0 for a team, --robots 2 or more)");
+    require(team.num_robots >= 1 && team.num_robots <= 26, "--robots: expected 1 to 26");
     c.start_utime = start_utime;
     c.start.x_m = start_x;
     c.start.y_m = start_y;
     c.start.heading_rad = start_heading;
 
+    if (team.num_robots >= 2) {
+      require(range_latency_s == 0, "--range-latency-s: not for a team run (--robots)");
+      require(team.robot_range_rate_hz > 0 && std::isfinite(team.robot_range_rate_hz), "--robot-range-rate-hz: expected > 0");
+      require(team.robot_spacing_m > 0 && std::isfinite(team.robot_spacing_m), "--robot-spacing: expected > 0");
+      team.robot = c;
+      const roam::TeamDataset run = roam::sim::simulateTeam(team);
+      const roam::TeamLogWriteSummary s = roam::writeTeamLog(output, run);
+      long robot_ranges = 0;
+      for (long count : s.robot_ranges) robot_ranges += count;
+      std::printf("roam-sim: %s: a team of %d robots, %ld events (%ld ranges between robots, %ld beacons), seed %llu\n",
+                  output.c_str(), team.num_robots, s.events, robot_ranges, s.beacons,
+                  static_cast<unsigned long long>(c.seed));
+      for (size_t r = 0; r < run.robots.size(); ++r)
+        std::printf("roam-sim: robot %s: %ld odometry, %ld ranges to beacons, %ld ranges to robots, %ld ground truth\n",
+                    run.robots[r].c_str(), s.members[r].odometry, s.members[r].ranges, s.robot_ranges[r],
+                    s.members[r].ground_truth);
+      return 0;
+    }
     const roam::Dataset run = roam::sim::simulate(c);
     const roam::LogWriteSummary s =
         roam::writeDatasetLog(output, run, static_cast<int64_t>(std::llround(range_latency_s * 1e6)));
