@@ -77,6 +77,30 @@ Rigid2D fitRigid2D(const std::vector<MatchedPosition>& matched) {
   return fit;
 }
 
+Rigid2D fitRigid2D(const std::vector<std::vector<MatchedPosition>>& paths) {
+  std::vector<MatchedPosition> all;
+  for (const auto& path : paths) all.insert(all.end(), path.begin(), path.end());
+  return fitRigid2D(all);
+}
+
+double beaconError(const Map& estimated_map, const Map& true_map, const std::optional<Rigid2D>& fit,
+                   size_t* compared) {
+  std::map<int, const Beacon*> truth;
+  for (const Beacon& b : true_map) truth[b.id] = &b;
+  double sum = 0;
+  size_t n = 0;
+  for (const Beacon& b : estimated_map) {
+    const auto it = truth.find(b.id);
+    if (it == truth.end()) continue;
+    double x = b.x_m, y = b.y_m;
+    if (fit) fit->apply(&x, &y);
+    sum += std::hypot(x - it->second->x_m, y - it->second->y_m);
+    ++n;
+  }
+  if (compared) *compared = n;
+  return n > 0 ? sum / static_cast<double>(n) : kNaN;
+}
+
 ErrorStats errorStats(const std::vector<double>& errors_m, size_t begin, size_t end) {
   ErrorStats stats;
   if (end <= begin) return stats;
@@ -116,20 +140,8 @@ PathScore scorePath(const Path& estimate, const Path& ground_truth, bool aligned
       if (score.worst10.count == 0 || chunk.mean_m > score.worst10.mean_m) score.worst10 = chunk;
     }
   }
-  if (estimated_map && true_map) {
-    std::map<int, const Beacon*> truth;
-    for (const Beacon& b : *true_map) truth[b.id] = &b;
-    double sum = 0;
-    for (const Beacon& b : *estimated_map) {
-      const auto it = truth.find(b.id);
-      if (it == truth.end()) continue;
-      double x = b.x_m, y = b.y_m;
-      if (fit) fit->apply(&x, &y);
-      sum += std::hypot(x - it->second->x_m, y - it->second->y_m);
-      ++score.beacons_compared;
-    }
-    if (score.beacons_compared > 0) score.beacon_error_m = sum / static_cast<double>(score.beacons_compared);
-  }
+  if (estimated_map && true_map)
+    score.beacon_error_m = beaconError(*estimated_map, *true_map, fit, &score.beacons_compared);
   return score;
 }
 

@@ -36,6 +36,9 @@ struct Rigid2D {
   void apply(double* x_m, double* y_m) const;
 };
 Rigid2D fitRigid2D(const std::vector<MatchedPosition>& matched);
+// One motion fitted to several paths' matches together (a team's robots): the least-squares fit
+// over all their positions as one set.
+Rigid2D fitRigid2D(const std::vector<std::vector<MatchedPosition>>& paths);
 
 struct ErrorStats {
   size_t count = 0;
@@ -43,6 +46,11 @@ struct ErrorStats {
   double rmse_m = kNaN;
 };
 ErrorStats errorStats(const std::vector<double>& errors_m, size_t begin, size_t end);
+
+// Mean distance (m) of estimated to true beacons matched by id, the estimate moved by `fit` if
+// given; NaN when no id matches. *compared (if given) = the number matched.
+double beaconError(const Map& estimated_map, const Map& true_map, const std::optional<Rigid2D>& fit,
+                   size_t* compared = nullptr);
 
 struct PathScore {
   size_t matched = 0;
