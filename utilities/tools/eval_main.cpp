@@ -1,7 +1,8 @@
 // roam-eval RESULT_LOG [more logs...] [--format text|markdown|csv|json] [--aligned]
 //           [--metric mean|rmse|both] [--no-odometry]
 // Scores every estimator of each result log against its GROUND_TRUTH (see path_score.hpp and
-// score_table.hpp). Exit 2 with a one-line message when a log cannot be read or an option is bad.
+// score_table.hpp); a team log (GROUND_TRUTH_<R> per robot) per robot and as a team
+// (team_score.hpp), in a table of its own. Exit 2 with a one-line message when a log cannot be read or an option is bad.
 #include <boost/program_options.hpp>
 #include <cstdio>
 #include <exception>
@@ -37,7 +38,8 @@ int main(int argc, char** argv) {
       ("help,h", "this help")
       ("format", po::value(&format_name)->default_value("text"), "text | markdown | csv | json")
       ("metric", po::value(&metric_name)->default_value("both"), "mean | rmse | both (text and markdown)")
-      ("aligned", "fit each path (and map) to ground truth by the best rigid 2-D motion first")
+      ("aligned", "fit each path (and map) to ground truth by the best rigid 2-D motion first (a team "
+                  "log: each robot's path alone; the team columns show both)")
       ("no-odometry", "leave out the 'odometry' row (dead reckoning integrated from the log's ODOMETRY)")
       ("status", "instead of scores: each estimator's last STATUS_ (state, accepted and rejected input, "
                  "diagnostics such as the odometry calibration it recovered), one line each");
@@ -83,7 +85,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "roam-eval: %s: skipped %ld corrupt or undecodable event%s\n", path.c_str(),
                      log.skipped, log.skipped == 1 ? "" : "s");
       }
-      if (log.ground_truth.empty()) {
+      if (log.ground_truth.empty() && !log.isTeam()) {
         std::fprintf(stderr, "roam-eval: %s: no GROUND_TRUTH: nothing can be scored\n", path.c_str());
       }
       std::string label = runLabel(path);

@@ -25,6 +25,69 @@ bool decode(const lcm::LogEvent& event, Message* message) {
   return event.datalen >= 0 && decodeMessage(event.data, event.datalen, message) == event.datalen;
 }
 
+// The robot whose suffix "_<R>" ends `suffix` after at least one character, the longest such;
+// "" if none.
+std::string robotOfSuffix(const std::string& suffix, const std::map<std::string, Path>& robots) {
+  std::string best;
+  for (const auto& [robot, truth] : robots) {
+    const std::string tail = "_" + robot;
+    if (suffix.size() > tail.size() && suffix.compare(suffix.size() - tail.size(), tail.size(), tail) == 0 &&
+        robot.size() > best.size())
+      best = robot;
+  }
+  return best;
+}
+
+// The estimator fields a single channel suffix gathered, regrouped for a team: paths of
+// <NAME>_<R> go to NAME's robot R, maps and status stay with their own suffix.
+struct SuffixNames {
+  std::string from_paths, from_team;  // the messages' `estimator` field, by channel kind
+};
+
+std::vector<EstimatorOutputs> groupTeam(std::vector<EstimatorOutputs> raw, const std::map<std::string, SuffixNames>& names,
+                                        const std::map<std::string, Path>& robots) {
+  std::vector<EstimatorOutputs> grouped;
+  std::map<std::string, size_t> at;
+  auto entry = [&](const std::string& suffix) -> EstimatorOutputs& {
+    const auto it = at.emplace(suffix, grouped.size()).first;
+    if (it->second == grouped.size()) {
+      grouped.emplace_back();
+      grouped.back().suffix = grouped.back().name = suffix;
+    }
+    return grouped[it->second];
+  };
+  for (EstimatorOutputs& e : raw) {
+    const SuffixNames& name = names.at(e.suffix);
+    const bool has_path = e.trajectory || !e.poses.empty();
+    const bool has_team = e.map || !e.state.empty();
+    const std::string robot = robotOfSuffix(e.suffix, robots);
+    if (has_path && !robot.empty()) {
+      EstimatorOutputs& team = entry(e.suffix.substr(0, e.suffix.size() - robot.size() - 1));
+      if (!name.from_paths.empty() && team.name == team.suffix) team.name = name.from_paths;
+      team.robots[robot] = RobotOutputs{std::move(e.poses), std::move(e.trajectory)};
+    }
+    if (has_team || (has_path && robot.empty()) || (!has_path && !has_team)) {
+      EstimatorOutputs& team = entry(e.suffix);
+      if (!name.from_team.empty()) team.name = name.from_team;
+      else if (robot.empty() && !name.from_paths.empty()) team.name = name.from_paths;
+      if (robot.empty()) {
+        team.poses = std::move(e.poses);
+        team.trajectory = std::move(e.trajectory);
+      }
+      team.map = std::move(e.map);
+      team.cpu_total_s = e.cpu_total_s;
+      team.state = e.state;
+      team.last_error = e.last_error;
+      team.odometry_accepted = e.odometry_accepted;
+      team.odometry_rejected = e.odometry_rejected;
+      team.ranges_accepted = e.ranges_accepted;
+      team.ranges_rejected = e.ranges_rejected;
+      team.diagnostics = std::move(e.diagnostics);
+    }
+  }
+  return grouped;
+}
+
 }  // namespace
 
 const char* stateName(int8_t state) {
@@ -37,6 +100,17 @@ const char* stateName(int8_t state) {
   return "unknown";
 }
 
+
+const Path* EstimatorOutputs::robotPath(const std::string& robot) const {
+  const auto it = robots.find(robot);
+  return it == robots.end() ? nullptr : &it->second.scoredPath();
+}
+
+std::vector<std::string> ResultLog::robotNames() const {
+  std::vector<std::string> names;
+  for (const auto& [robot, truth] : team_ground_truth) names.push_back(robot);
+  return names;
+}
 
 const EstimatorOutputs* ResultLog::find(const std::string& name_or_suffix) const {
   for (const auto& e : estimators) {
@@ -60,8 +134,10 @@ ResultLog readResultLog(const std::string& path) {
 
   ResultLog result;
   result.path = path;
+  const std::string team_truth_prefix = teamChannel(channels::GROUND_TRUTH, "");  // "GROUND_TRUTH_"
   std::map<std::string, size_t> index;  // suffix -> estimators[]
-  auto estimator = [&](const std::string& suffix, const std::string& name) -> EstimatorOutputs& {
+  std::map<std::string, SuffixNames> names;  // suffix -> its messages' estimator names
+  auto estimator = [&](const std::string& suffix, const std::string& name, bool path_channel = false) -> EstimatorOutputs& {
     auto it = index.find(suffix);
     if (it == index.end()) {
       it = index.emplace(suffix, result.estimators.size()).first;
@@ -70,7 +146,11 @@ ResultLog readResultLog(const std::string& path) {
       result.estimators.back().name = suffix;
     }
     EstimatorOutputs& out = result.estimators[it->second];
-    if (!name.empty()) out.name = name;
+    if (!name.empty()) {
+      out.name = name;
+      (path_channel ? names[suffix].from_paths : names[suffix].from_team) = name;
+    }
+    names[suffix];  // every suffix has an entry
     return out;
   };
 
@@ -85,6 +165,10 @@ ResultLog readResultLog(const std::string& path) {
     if (c == channels::GROUND_TRUTH) {
       roam::pose_t m;
       if ((ok = decode(*event, &m))) result.ground_truth.push_back(shim::fromC(fromMessage(m)));
+    } else if (c.size() > team_truth_prefix.size() && startsWith(c, team_truth_prefix.c_str())) {
+      roam::pose_t m;
+      if ((ok = decode(*event, &m)))
+        result.team_ground_truth[c.substr(team_truth_prefix.size())].push_back(shim::fromC(fromMessage(m)));
     } else if (c == channels::INITIAL_POSE) {
       roam::pose_t m;
       if ((ok = decode(*event, &m)) && !result.start) result.start = shim::fromC(fromMessage(m));
@@ -100,12 +184,12 @@ ResultLog readResultLog(const std::string& path) {
     } else if (startsWith(c, channels::POSE_PREFIX)) {
       roam::pose_t m;
       if ((ok = decode(*event, &m)))
-        estimator(c.substr(std::strlen(channels::POSE_PREFIX)), m.estimator).poses.push_back(shim::fromC(fromMessage(m)));
+        estimator(c.substr(std::strlen(channels::POSE_PREFIX)), m.estimator, true).poses.push_back(shim::fromC(fromMessage(m)));
     } else if (startsWith(c, channels::TRAJECTORY_PREFIX)) {
       roam::trajectory_t m;
       if ((ok = decode(*event, &m))) {
         try {
-          estimator(c.substr(std::strlen(channels::TRAJECTORY_PREFIX)), m.estimator).trajectory = shim::fromC(fromMessage(m));
+          estimator(c.substr(std::strlen(channels::TRAJECTORY_PREFIX)), m.estimator, true).trajectory = shim::fromC(fromMessage(m));
         } catch (const std::exception&) {
           ok = false;
         }
@@ -136,6 +220,7 @@ ResultLog readResultLog(const std::string& path) {
     if (!any && info.st_size > 0) throw std::runtime_error(path + ": not an LCM log (no event could be read)");
     ++result.skipped;
   }
+  if (result.isTeam()) result.estimators = groupTeam(std::move(result.estimators), names, result.team_ground_truth);
   return result;
 }
 

@@ -5,9 +5,15 @@
 // channel suffix (upper case), the name the messages' `estimator` field (the suffix if empty).
 // An event that does not decode as its channel's type is skipped and counted; so is a cut
 // event at the end of the file. Other channels are ignored.
+//
+// A team log (messages.hpp) has a GROUND_TRUTH_<R> per robot R instead of GROUND_TRUTH; the robots
+// are those suffixes. An estimator NAME's POSE_<NAME>_<R> / TRAJECTORY_<NAME>_<R> are then its
+// path for robot R (NAME may itself hold '_': the robot is the longest known robot suffix), and
+// MAP_<NAME> / STATUS_<NAME> the team's. The team's dead reckoning is not integrated here.
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +25,13 @@ namespace roam {
 // The name of an estimator_status_t state ("initializing", "tracking", "finished", "failed";
 // "unknown" for any other value).
 const char* stateName(int8_t state);
+
+// One robot's outputs of a team estimator.
+struct RobotOutputs {
+  Path poses;                      // every POSE_<suffix>_<R>, in log order
+  std::optional<Path> trajectory;  // the last TRAJECTORY_<suffix>_<R>
+  const Path& scoredPath() const { return trajectory ? *trajectory : poses; }
+};
 
 struct EstimatorOutputs {
   std::string suffix;             // channel suffix, e.g. "SPECTRAL"
@@ -34,8 +47,13 @@ struct EstimatorOutputs {
   long odometry_accepted = 0, odometry_rejected = 0, ranges_accepted = 0, ranges_rejected = 0;
   std::vector<std::pair<std::string, double>> diagnostics;
 
+  // Team log: each robot's outputs by robot name; a robot it published nothing for is absent.
+  std::map<std::string, RobotOutputs> robots;
+
   // The path roam-eval scores: the last trajectory if any, else the poses.
   const Path& scoredPath() const { return trajectory ? *trajectory : poses; }
+  // Team log: robot R's path roam-eval scores, nullptr if it published none for R.
+  const Path* robotPath(const std::string& robot) const;
 };
 
 struct ResultLog {
@@ -48,7 +66,11 @@ struct ResultLog {
   std::vector<EstimatorOutputs> estimators;  // in order of first appearance
   long events = 0;
   long skipped = 0;                // undecodable events (and a cut last event)
+  // Team log: GROUND_TRUTH_<R> by robot name R, log order each; empty for a single robot's log.
+  std::map<std::string, Path> team_ground_truth;
 
+  bool isTeam() const { return !team_ground_truth.empty(); }
+  std::vector<std::string> robotNames() const;  // the team's robots, sorted
   const EstimatorOutputs* find(const std::string& name_or_suffix) const;
 };
 
