@@ -12,6 +12,10 @@
 // roam-export RESULT_LOG --map                        the surveyed BEACONS, same layout
 // NAME may also be 'odometry': dead reckoning integrated from INITIAL_POSE and ODOMETRY, as in
 // roam-eval. Output to stdout unless -o FILE. Exit 2 with a one-line message on any error.
+// A team log (GROUND_TRUTH_<R> per robot R; result_log.hpp): --robot R exports robot R's path
+// (GROUND_TRUTH_R, or TRAJECTORY_<NAME>_R, else every POSE_<NAME>_R) as csv or tum; without
+// --robot, -o FILE writes one file per robot, FILE with _<R> before its extension (out.tum ->
+// out_A.tum), skipping with a warning a robot the estimator published no path for.
 #include <boost/program_options.hpp>
 #include <algorithm>
 #include <cmath>
@@ -21,6 +25,7 @@
 #include <fstream>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "command_line.hpp"
 #include "pyfg_dataset.hpp"
@@ -93,6 +98,25 @@ void writePyfgExport(const std::string& file, const roam::ResultLog& log, roam::
   roam::writePyfg(file, graph);
 }
 
+// "dir/out.tum" + "A" -> "dir/out_A.tum"; "out" -> "out_A".
+std::string robotFile(const std::string& file, const std::string& robot) {
+  const size_t slash = file.find_last_of('/');
+  const size_t dot = file.find_last_of('.');
+  const bool has_extension = dot != std::string::npos && (slash == std::string::npos || dot > slash + 1);
+  return has_extension ? file.substr(0, dot) + "_" + robot + file.substr(dot) : file + "_" + robot;
+}
+
+void writePathAs(std::ostream& out, const roam::Path& path, const std::string& format) {
+  if (format == "tum") writeTum(out, path);
+  else writePath(out, path);
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string list;
+  for (const auto& name : names) list += (list.empty() ? "" : ", ") + name;
+  return list;
+}
+
 void writeMap(std::ostream& out, const roam::Map& map) {
   out << "beacon_id,x_m,y_m\n";
   for (const roam::Beacon& b : map) out << b.id << "," << number(b.x_m) << "," << number(b.y_m) << "\n";
@@ -114,6 +138,8 @@ int main(int argc, char** argv) {
       ("estimator", po::value(&estimator), "NAME: the path roam-eval scores for this estimator")
       ("ground-truth", "GROUND_TRUTH instead of an estimator's path")
       ("map", "the last MAP_<NAME> of --estimator, or the surveyed BEACONS without --estimator")
+      ("robot", po::value<std::string>(), "R: on a team log, robot R's path; without it, -o FILE writes "
+                                          "one file per robot, FILE_<R> (out.tum -> out_A.tum)")
       ("output,o", po::value(&output), "FILE to write (default: stdout)");
   po::options_description hidden;
   hidden.add_options()("log", po::value(&log_path));
@@ -143,6 +169,58 @@ int main(int argc, char** argv) {
       for (const auto& e : log.estimators) list += (list.empty() ? "" : ", ") + e.name;
       return list.empty() ? std::string("none") : list;
     };
+    const std::string robot = vm.count("robot") ? vm["robot"].as<std::string>() : "";
+    if (vm.count("robot") && !log.isTeam())
+      throw std::runtime_error("--robot " + robot + ": " + log_path + " is not a team log (no GROUND_TRUTH_<R>)");
+    if (log.isTeam() && !map) {
+      if (format == "pyfg") throw std::runtime_error("--format pyfg: a team log's paths export as csv or tum");
+      const std::vector<std::string> robots = log.robotNames();
+      const roam::EstimatorOutputs* e = nullptr;
+      if (!ground_truth) {
+        e = log.find(estimator);
+        if (!e) throw std::runtime_error(log_path + ": no estimator '" + estimator + "' (found: " + names() + ")");
+      }
+      auto pathOf = [&](const std::string& r) { return e ? e->robotPath(r) : &log.team_ground_truth.at(r); };
+      auto noPath = [&](const std::string& r) {
+        return log_path + ": estimator '" + e->name + "' published no path for robot " + r;
+      };
+      if (vm.count("robot")) {
+        if (!log.team_ground_truth.count(robot))
+          throw std::runtime_error(log_path + ": no robot '" + robot + "' in the team (robots: " + joined(robots) + ")");
+        const roam::Path* path = pathOf(robot);
+        if (!path) throw std::runtime_error(noPath(robot));
+        std::ofstream file;
+        if (!output.empty()) {
+          file.open(output);
+          if (!file) throw std::runtime_error(output + ": cannot open for writing");
+        }
+        std::ostream& out = output.empty() ? std::cout : file;
+        writePathAs(out, *path, format);
+        out.flush();
+        if (!out) throw std::runtime_error((output.empty() ? std::string("stdout") : output) + ": write failed");
+        return 0;
+      }
+      if (output.empty())
+        throw std::runtime_error(log_path + " is a team log (robots " + joined(robots) +
+                                 "): give --robot R, or -o FILE for one file per robot (FILE_<R>)");
+      size_t written = 0;
+      for (const std::string& r : robots) {
+        const roam::Path* path = pathOf(r);
+        if (!path) {
+          std::fprintf(stderr, "roam-export: %s: no file for it\n", noPath(r).c_str());
+          continue;
+        }
+        const std::string name = robotFile(output, r);
+        std::ofstream file(name);
+        if (!file) throw std::runtime_error(name + ": cannot open for writing");
+        writePathAs(file, *path, format);
+        file.flush();
+        if (!file) throw std::runtime_error(name + ": write failed");
+        ++written;
+      }
+      if (written == 0) throw std::runtime_error(log_path + ": estimator '" + e->name + "' published no path for any robot");
+      return 0;
+    }
     std::ofstream file;
     if (!output.empty() && format != "pyfg") {
       file.open(output);
