@@ -127,7 +127,8 @@ void writeMap(std::ostream& out, const roam::Map& map) {
 int main(int argc, char** argv) {
   std::string log_path, estimator, output, format = "csv";
   po::options_description visible(
-      "roam-export RESULT_LOG (--estimator NAME | --ground-truth) [--map] [--format csv|tum|pyfg] [-o FILE]:\n"
+      "roam-export RESULT_LOG (--estimator NAME | --ground-truth) [--map] [--format csv|tum|pyfg] [--robot R]\n"
+      "[-o FILE]:\n"
       "a path as CSV time_s,x_m,y_m,heading_rad, as TUM (evo) or as a pyfg factor graph; with --map\n"
       "beacons as beacon_id,x_m,y_m");
   visible.add_options()
