@@ -8,9 +8,8 @@
 #include <stdexcept>
 
 #include <Eigen/Cholesky>
-#include <Eigen/SparseCholesky>
-#include <random>
 
+#include "batch_redundancy.hpp"
 #include "batch_residuals.hpp"
 #include "roam/estimation/motion_model.hpp"
 
@@ -83,51 +82,21 @@ ceres::LinearSolverType linearSolver(SpectralBatchConfig::LinearSolver solver) {
 // A range is an inlier within this many of its sigmas of the solution (Summary::range_inliers).
 constexpr double kInlierWindowSigmas = 4.0;
 
-// Probes of the Hutchinson trace estimate: the variance of one probe of a group's trace is at most
-// twice the group's redundancy (a block of a projector), so 32 probes give ~sqrt(2 r / 32): 2.5
-// on a redundancy of 100, 2.5 %.
-constexpr int kRedundancyProbes = 32;
-
-// Redundancy numbers of the odometry rows (translation, heading) at the current state: see
-// Summary. Rows: the odometry blocks first (3 rows each), then every other block.
+// Redundancy numbers of the odometry rows (translation: rows 0 and 1 of each block, heading: row
+// 2) at the current state: see Summary and batch_redundancy.hpp.
 void odometryRedundancy(ceres::Problem& ceres_problem, const std::vector<ceres::ResidualBlockId>& odometry_blocks,
                         Summary* summary) {
-  std::vector<ceres::ResidualBlockId> all, ordered = odometry_blocks;
-  ceres_problem.GetResidualBlocks(&all);
-  std::vector<ceres::ResidualBlockId> sorted_odometry = odometry_blocks;
-  std::sort(sorted_odometry.begin(), sorted_odometry.end());
-  for (ceres::ResidualBlockId id : all)
-    if (!std::binary_search(sorted_odometry.begin(), sorted_odometry.end(), id)) ordered.push_back(id);
-  ceres::Problem::EvaluateOptions options;
-  options.residual_blocks = ordered;
-  std::vector<double> residuals;
-  ceres::CRSMatrix crs;
-  if (!ceres_problem.Evaluate(options, nullptr, &residuals, nullptr, &crs)) return;
-  const int odometry_rows = 3 * static_cast<int>(odometry_blocks.size());
-  for (int i = 0; i < odometry_rows; ++i)
-    (i % 3 == 2 ? summary->odometry_heading_squares : summary->odometry_translation_squares) += residuals[i] * residuals[i];
-  const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>> jacobian(
-      crs.num_rows, crs.num_cols, static_cast<Eigen::Index>(crs.values.size()), crs.rows.data(), crs.cols.data(),
-      crs.values.data());
-  Eigen::SparseMatrix<double> normal = Eigen::SparseMatrix<double>(jacobian.transpose()) * jacobian;
-  // Constant blocks give empty columns: a unit diagonal there leaves them decoupled.
-  for (int j = 0; j < normal.cols(); ++j)
-    if (normal.coeff(j, j) == 0.0) normal.coeffRef(j, j) = 1.0;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(normal);
-  if (ldlt.info() != Eigen::Success) return;
-  std::mt19937 rng(20261124u);
-  std::bernoulli_distribution coin(0.5);
-  double trace_translation = 0.0, trace_heading = 0.0;
-  Eigen::VectorXd z(crs.num_rows);
-  for (int probe = 0; probe < kRedundancyProbes; ++probe) {
-    for (int i = 0; i < z.size(); ++i) z[i] = coin(rng) ? 1.0 : -1.0;
-    const Eigen::VectorXd y = jacobian * ldlt.solve(jacobian.transpose() * z);
-    for (int i = 0; i < odometry_rows; ++i) (i % 3 == 2 ? trace_heading : trace_translation) += z[i] * y[i];
-  }
-  const double n = static_cast<double>(odometry_blocks.size());
-  summary->odometry_translation_redundancy = 2.0 * n - trace_translation / kRedundancyProbes;
-  summary->odometry_heading_redundancy = n - trace_heading / kRedundancyProbes;
-  summary->redundancy_ok = ldlt.info() == Eigen::Success;
+  RedundancyGroups groups;
+  groups.block_sets = {odometry_blocks};
+  groups.group_of_row = {{0, 0, 1}};
+  groups.num_groups = 2;
+  const Redundancy redundancy = redundancyNumbers(ceres_problem, groups);
+  summary->odometry_translation_squares += redundancy.squares[0];
+  summary->odometry_heading_squares += redundancy.squares[1];
+  if (!redundancy.ok) return;
+  summary->odometry_translation_redundancy = redundancy.redundancy[0];
+  summary->odometry_heading_redundancy = redundancy.redundancy[1];
+  summary->redundancy_ok = true;
 }
 
 }  // namespace
