@@ -1,0 +1,106 @@
+// The team solve: one nonlinear least-squares problem over every robot of a team (no LCM).
+//
+// Unknowns: each robot r's poses world_T_robot x_r,k = (x_m, y_m, heading_rad) at its start and at
+// the end of each odometry step k; its odometry calibration c_r = (distance scale s_r,
+// heading-rate bias b_r) of estimation/motion_model.hpp. Surveyed beacons are held at the survey.
+//
+// Cost (Ceres' 1/2 sum; residuals whitened, robust loss rho on every range and bearing):
+//   sum_r sum_k |r_odo(x_r,k, x_r,k+1, c_r)|^2               OdometryResidual (batch_residuals.hpp)
+// + sum_r |r_prior(c_r)|^2                                    OdometryCalibrationPrior
+// + sum_(i,j,t) rho(((|p_i(t) - p_j(t)| - r) / (f_rr sigma))^2)  a range between robots i and j
+// + sum_(r,m,t) rho(((|m - p_r(t)| - r) / (f_b sigma))^2)        a range to a surveyed beacon m
+// + sum_(r,m,t) rho((wrap(atan2(m - p_r(t)) - th_r(t) - beta) / (f_b sigma / max(r, sigma)))^2)
+// where p_r(t) = p_r,k + alpha (p_r,k+1 - p_r,k), alpha = (t - t_k) / (t_k+1 - t_k), is robot r's
+// position interpolated linearly along the step containing t (and th_r(t) its heading, the same
+// way along the wrapped turn of the step). The bearing's sigma is the line-of-sight model of the
+// pyfg importer: a sighting's isotropic position sigma seen across a distance r subtends
+// sigma / r radians (floored at r = sigma: nearer, a bearing says next to nothing, ~1 rad).
+//
+// The odometry's whitening is its increment covariance (estimation::incrementCovariance: the
+// message's covariance floored by options.motion_noise), with the translation rows scaled by
+// 1 / f_t and the heading row by 1 / f_h. The noise factors f_t, f_h, f_rr, f_b are learned from
+// the data: after a solve, each group's whitened squares over its redundancy number
+// (batch_redundancy.hpp) scales its factor, and the problem is solved again from the solution.
+//
+// Gauge: every robot's start pose held constant (anchor = start poses).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "roam/calibration_priors.hpp"
+#include "roam/estimation/motion_model.hpp"
+#include "roam/types.hpp"
+
+namespace roam {
+namespace spectral_batch {
+
+struct TeamRobot {
+  Pose start;                        // world_T_robot at start.utime; step 0 begins there
+  std::vector<Odometry> odometry;    // in time order; step k ends at odometry[k].utime
+  std::vector<Range> beacon_ranges;  // other_robot = -1, beacon_id in the survey; some with bearing
+};
+
+struct TeamInput {
+  std::vector<TeamRobot> robots;    // the team: robot r is robots[r]
+  std::vector<Range> robot_ranges;  // robot and other_robot index robots
+  Map beacons;                      // surveyed (may be empty)
+};
+
+struct TeamSolveOptions {
+  // The odometry noise where a message states none, and the floor of a stated one.
+  estimation::MotionNoise motion_noise;
+  double range_sigma_m = 0.1;  // where a range states none (sigma_m <= 0)
+  bool estimate_odometry_calibration = true;
+  // Calibration priors (<= 0: none). The bias prior is the shared one (calibration_priors.hpp);
+  // the distance scale's is spectral_batch's default (batch_config.hpp distance_scale_sigma).
+  double distance_scale_prior_sigma = 0.05;
+  double heading_rate_bias_prior_sigma_rad_s = kHeadingRateBiasPriorSigma_rad_s;
+  // Huber's scale on the whitened range and bearing residuals: see team_solve.cpp.
+  double huber_scale = 2.0;
+  // Re-estimations of the noise factors after the first solve, each followed by a warm re-solve.
+  int noise_rounds = 3;
+  bool use_beacon_ranges = true;
+  int max_iterations = 200;
+  double function_tolerance = 1e-10;
+  double gradient_tolerance = 1e-12;
+  double parameter_tolerance = 1e-10;
+};
+
+struct TeamNoiseFactors {
+  double odometry_translation = 1.0;
+  double odometry_heading = 1.0;
+  double robot_range = 1.0;
+  double beacon = 1.0;  // beacon ranges and bearings
+};
+
+struct TeamSummary {
+  double initial_cost = 0.0;  // of the first solve, from dead reckoning
+  double final_cost = 0.0;    // of the last solve
+  int iterations = 0;         // over every solve
+  int solves = 0;
+  double time_s = 0.0;        // Ceres' wall time over every solve (single thread: its CPU time)
+  bool usable = false;
+  bool converged = false;     // the last solve stopped on a tolerance
+  int poses = 0;
+  int robot_ranges_used = 0, robot_ranges_downweighted = 0;
+  int beacon_ranges_used = 0, beacon_ranges_downweighted = 0;
+  int bearings_used = 0, bearings_downweighted = 0;
+  TeamNoiseFactors noise;     // at the last solve
+  std::string report;         // one line per solve
+};
+
+struct TeamResult {
+  std::vector<Path> paths;  // per robot, one pose per odometry time (start included), robot set
+  Map beacons;              // the survey, as held
+  std::vector<estimation::OdometryCalibration> odometry_calibration;  // per robot
+  TeamSummary summary;
+  std::vector<std::string> notes;  // what was set aside and why
+};
+
+// Throws std::invalid_argument on bad input (an index out of range, a non-finite value, time
+// going backwards).
+TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options = {});
+
+}  // namespace spectral_batch
+}  // namespace roam
