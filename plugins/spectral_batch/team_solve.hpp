@@ -59,7 +59,7 @@ struct TeamSolveOptions {
   // Huber's scale on the whitened range and bearing residuals: see team_solve.cpp.
   double huber_scale = 2.0;
   // Re-estimations of the noise factors after the first solve, each followed by a warm re-solve.
-  int noise_rounds = 3;
+  int noise_rounds = 2;
   bool use_beacon_ranges = true;
   int max_iterations = 200;
   double function_tolerance = 1e-10;
