@@ -14,6 +14,6 @@ std::unique_ptr<roam::Estimator> makeSpectralBatch(roam::Options& options) {
 
 }  // namespace
 
-ROAM_DEFINE_PLUGIN("spectral_batch",
+ROAM_DEFINE_TEAM_PLUGIN("spectral_batch",
                    "Ceres batch range-only SLAM seeded by spectral SLAM or dead reckoning",
                    makeSpectralBatch)

@@ -60,7 +60,17 @@ void SpectralBatchSlam::start(const Pose& start_pose) {
   emitPose(toPose(start_pose.utime, current_pose_));
 }
 
+void SpectralBatchSlam::setTeam(const std::vector<std::string>& robots) {
+  team_ = std::make_unique<TeamBatch>(config_, robots);
+  spectral_.reset();  // a one-robot seed; the team is seeded by each robot's dead reckoning
+  if (config_.anchor == SpectralBatchConfig::Anchor::kBeacons)
+    note("anchor = beacons in a team run: the team solve holds every robot's start pose (INITIAL_POSE_<robot>) "
+         "and uses the surveyed beacons' ranges; see anchor");
+  setState(EstimatorState::kTracking);
+}
+
 void SpectralBatchSlam::setInitialPose(const Pose& start_pose) {
+  if (team_) return team_->setInitialPose(start_pose);
   if (started_) return;  // the start is fixed once odometry has begun
   start(start_pose);
   have_initial_pose_ = true;
@@ -68,11 +78,13 @@ void SpectralBatchSlam::setInitialPose(const Pose& start_pose) {
 }
 
 void SpectralBatchSlam::setBeacons(const Map& surveyed) {
+  if (team_) return team_->setBeacons(surveyed);
   surveyed_ = surveyed;
   if (spectral_) spectral_->setBeacons(surveyed);
 }
 
 void SpectralBatchSlam::addOdometry(const Odometry& odometry) {
+  if (team_) return team_->addOdometry(odometry) ? acceptOdometry() : rejectOdometry("time went backwards");
   if (!started_) {
     // No INITIAL_POSE: start at the origin, at this step's time (as deadreckoning does).
     Pose origin;
@@ -96,12 +108,14 @@ void SpectralBatchSlam::addOdometry(const Odometry& odometry) {
 
 void SpectralBatchSlam::addRange(const Range& range) {
   if (!(range.range_m > 0.0)) return rejectRange("range not positive");
+  if (team_) return team_->addRange(range) ? acceptRange() : rejectRange("time went backwards");
   ranges_.push_back(range);
   acceptRange();
   if (spectral_) spectral_->addRange(range);
 }
 
 void SpectralBatchSlam::finish() {
+  if (team_) return finishTeam();
   if (config_.anchor == SpectralBatchConfig::Anchor::kBeacons && surveyed_.empty()) noteNoSurvey();
   if (started_) {
     if (spectral_) {
@@ -647,7 +661,36 @@ Path SpectralBatchSlam::currentPath() const {
   return path;
 }
 
+void SpectralBatchSlam::finishTeam() {
+  team_->finish();
+  const TeamSummary& summary = team_->result().summary;
+  setDiagnostic("team_cost", summary.final_cost);
+  setDiagnostic("team_iterations", summary.iterations);
+  setDiagnostic("team_solves", summary.solves);
+  setDiagnostic("team_converged", summary.converged ? 1.0 : 0.0);
+  setDiagnostic("team_solve_s", summary.time_s);
+  setDiagnostic("robot_ranges_used", summary.robot_ranges_used);
+  setDiagnostic("robot_ranges_downweighted", summary.robot_ranges_downweighted);
+  setDiagnostic("beacon_ranges_used", summary.beacon_ranges_used);
+  setDiagnostic("bearings_used", summary.bearings_used);
+  setDiagnostic("noise_odometry_translation", summary.noise.odometry_translation);
+  setDiagnostic("noise_odometry_heading", summary.noise.odometry_heading);
+  setDiagnostic("noise_robot_range", summary.noise.robot_range);
+  setDiagnostic("noise_beacon", summary.noise.beacon);
+  for (const std::string& text : team_->notes()) note(text);
+  emitMap(team_->result().beacons);
+  setState(summary.usable ? EstimatorState::kFinished : EstimatorState::kFailed);
+  if (!summary.usable) throw std::runtime_error("the team solve's answer is not usable (Ceres: " + summary.report + ")");
+  new_solution_ = true;
+}
+
 bool SpectralBatchSlam::trajectory(bool force, Path* path) {
+  if (team_) {
+    if (!force && !new_solution_) return false;
+    *path = team_->paths();
+    new_solution_ = false;
+    return !path->empty();
+  }
   if (!started_) return false;
   if (!force && !new_solution_) return false;
   *path = currentPath();

@@ -39,6 +39,7 @@
 
 #include "batch_config.hpp"
 #include "batch_problem.hpp"
+#include "team_batch.hpp"
 #include "roam/estimation/motion_model.hpp"
 #include "roam/estimator.hpp"
 
@@ -52,6 +53,8 @@ class SpectralBatchSlam : public Estimator {
   explicit SpectralBatchSlam(const SpectralBatchConfig& config);
   ~SpectralBatchSlam() override;
 
+  // A team run: every later input goes to the team solve (team_batch.hpp).
+  void setTeam(const std::vector<std::string>& robots) override;
   void setInitialPose(const Pose& start) override;
   void setBeacons(const Map& surveyed) override;
   void addOdometry(const Odometry& odometry) override;
@@ -126,6 +129,8 @@ class SpectralBatchSlam : public Estimator {
 
   SpectralBatchConfig config_;
   std::unique_ptr<Estimator> spectral_;  // the seed (init = spectral), fed every input
+  std::unique_ptr<TeamBatch> team_;      // a team run's solve (setTeam), instead of all below
+  void finishTeam();
   bool started_ = false;
   bool have_initial_pose_ = false;  // INITIAL_POSE came (not the origin by default)
   std::array<double, 3> start_pose_{0.0, 0.0, 0.0};  // world_T_robot at pose_utime_[0]

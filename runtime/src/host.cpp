@@ -174,6 +174,7 @@ std::string Host::lateInputWarning() const {
 
 void Host::dispatch(const std::string& channel, const void* data, int size) {
   cpu_before_.resize(estimators_.size());
+  fed_.assign(estimators_.size(), 0);
   for (size_t i = 0; i < estimators_.size(); ++i) {
     cpu_before_[i] = estimators_[i].instance->failed() ? -1.0 : estimators_[i].instance->cpuTotalSeconds();
   }
@@ -200,7 +201,7 @@ void Host::dispatch(const std::string& channel, const void* data, int size) {
   for (auto& slot : estimators_) publishOutputs(slot, false);
   if (update == nullptr) return;
   for (size_t i = 0; i < estimators_.size(); ++i) {
-    if (cpu_before_[i] < 0.0) continue;  // failed before this event: it got nothing
+    if (cpu_before_[i] < 0.0 || !fed_[i]) continue;  // failed before this event, or another robot's: it got nothing
     (estimators_[i].*update).add(estimators_[i].instance->cpuTotalSeconds() - cpu_before_[i]);
   }
 }
@@ -221,8 +222,10 @@ bool Host::feedOdometry(const std::string& channel, int robot, const void* data,
   last->second = message.utime;
   newest_fed_utime_ = std::max(newest_fed_utime_, message.utime);
   roam_odometry odometry = fromMessage(message);
-  for (auto& slot : estimators_) {
-    if (feeds(slot, robot, &odometry.robot)) slot.instance->addOdometry(odometry);
+  for (size_t i = 0; i < estimators_.size(); ++i) {
+    if (!feeds(estimators_[i], robot, &odometry.robot)) continue;
+    estimators_[i].instance->addOdometry(odometry);
+    fed_[i] = 1;
   }
   return true;
 }
@@ -236,10 +239,13 @@ bool Host::feedRange(const std::string& channel, int robot, const void* data, in
   }
   if (!acceptInOrder(channel, message.utime, data, size)) return false;
   ++counters_.ranges;
+  ++counters_.ranges_by_robot[robot];
   newest_fed_utime_ = std::max(newest_fed_utime_, message.utime);
   roam_range range = fromMessage(message);
-  for (auto& slot : estimators_) {
-    if (feeds(slot, robot, &range.robot)) slot.instance->addRange(range);
+  for (size_t i = 0; i < estimators_.size(); ++i) {
+    if (!feeds(estimators_[i], robot, &range.robot)) continue;
+    estimators_[i].instance->addRange(range);
+    fed_[i] = 1;
   }
   return true;
 }
@@ -265,8 +271,10 @@ bool Host::feedRobotRange(const std::string& channel, int robot, const void* dat
   range.sigma_m = message.sigma;
   range.robot = robot;
   range.to_robot = static_cast<int32_t>(other - config_.team.begin()) + 1;
-  for (auto& slot : estimators_) {
-    if (slot.section.robot < 0) slot.instance->addRange(range);  // team estimators only
+  for (size_t i = 0; i < estimators_.size(); ++i) {
+    if (estimators_[i].section.robot >= 0) continue;  // team estimators only
+    estimators_[i].instance->addRange(range);
+    fed_[i] = 1;
   }
   return true;
 }

@@ -58,6 +58,7 @@ struct InputCounters {
   int64_t odometry = 0;
   int64_t ranges = 0;
   int64_t robot_ranges = 0;  // ranges between two robots of a team
+  std::map<int, int64_t> ranges_by_robot;  // a team's ranges to beacons, by robot index
   int64_t robot_ranges_unknown = 0;  // ranges naming no other robot of [team] robots (skipped)
   int64_t undecodable = 0;
   int64_t out_of_order = 0;
@@ -161,6 +162,7 @@ class Host {
   int64_t newest_fed_utime_ = INT64_MIN;
   std::vector<uint8_t> buffer_;
   std::vector<double> cpu_before_;  // per estimator, at the start of an event
+  std::vector<char> fed_;           // per estimator: this event's input was given to it
 };
 
 }  // namespace runtime

@@ -28,6 +28,7 @@
 #include "run_notes.hpp"
 #include "replay.hpp"
 #include "threaded_instance.hpp"
+#include "roam/messages.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -234,11 +235,26 @@ int main(int argc, char** argv) {
     for (const auto& line : runNotes(slot.section.name, status, effective[i]))
       std::fprintf(stderr, "roam-run: %s\n", line.c_str());
   }
-  std::vector<EstimatorRangeUse> range_use;
-  for (const auto& slot : host->estimators())
-    if (!slot.instance->failed()) range_use.push_back({slot.section.name, slot.instance->status()});
-  for (const auto& line : rangeUseNotes(host->counters().ranges, config.range_channel, range_use))
-    std::fprintf(stderr, "roam-run: %s\n", line.c_str());
+  // Which estimators had no range to work with: of one robot, the ranges on its channel; of a
+  // team, every range (to beacons and between robots).
+  const auto& counters = host->counters();
+  for (int robot = config.isTeam() ? -1 : 0; robot < static_cast<int>(std::max<size_t>(1, config.team.size())); ++robot) {
+    std::vector<EstimatorRangeUse> range_use;
+    for (const auto& slot : host->estimators())
+      if (!slot.instance->failed() && (!config.isTeam() || slot.section.robot == robot))
+        range_use.push_back({slot.section.name, slot.instance->status()});
+    int64_t ranges = counters.ranges;
+    std::string channel = config.range_channel;
+    if (config.isTeam() && robot < 0) {
+      ranges += counters.robot_ranges;
+      channel += "_<robot> or " + std::string(roam::channels::ROBOT_RANGE) + "_<robot>";
+    } else if (config.isTeam()) {
+      const auto it = counters.ranges_by_robot.find(robot);
+      ranges = it == counters.ranges_by_robot.end() ? 0 : it->second;
+      channel += "_" + config.team[static_cast<size_t>(robot)];
+    }
+    for (const auto& line : rangeUseNotes(ranges, channel, range_use)) std::fprintf(stderr, "roam-run: %s\n", line.c_str());
+  }
   std::vector<std::string> failures;
   for (const auto& slot : host->estimators()) {
     if (slot.instance->failed()) {

@@ -30,7 +30,7 @@ Xvfb "$display" -screen 0 1280x800x24 >/dev/null 2>&1 & xvfb_pid=$!
 for _ in $(seq 50); do [ -e "/tmp/.X11-unix/X${display#:}" ] && break; sleep 0.2; done
 DISPLAY="$display" ip netns exec "$ns" "$bin/roam-spy" --lcm-url="$url" >"$work/spy.txt" 2>&1 &
 for _ in $(seq 300); do grep -q "LCM types" "$work/spy.txt" && break; sleep 0.2; done
-grep -q "Found 8 LCM types" "$work/spy.txt" || { echo "FAILED: spy did not find the 8 roam types (7 messages and the older odometry layout)"; cat "$work/spy.txt"; exit 1; }
+grep -q "Found 9 LCM types" "$work/spy.txt" || { echo "FAILED: spy did not find the 9 roam types (8 messages and the older odometry layout)"; cat "$work/spy.txt"; exit 1; }
 # BEACONS and INITIAL_POSE are sent once, at the log's start: play only once spy's LCM socket is
 # bound to the bus port. lcm.spy.Spy prints "Found N LCM types", then builds and shows its window,
 # then opens LCM and subscribes; on a loaded host that took longer than the 2 s this test used to

@@ -45,7 +45,8 @@ TEST(Loader, RejectsAStructLayoutThatDiffersFromTheHosts) {
             kDir + "/libroam_wrong_layout.so: the plugin's roam_odometry is 24 bytes aligned to 8, "
                    "this roam-run's is " + std::to_string(sizeof(roam_odometry)) +
                 " aligned to 8: rebuild the plugin against this roam's plugin_abi.h");
-  EXPECT_EQ(sizeof(roam_odometry), 8u + 3 * 8 + 9 * 8);  // utime, forward, lateral, heading, covariance
+  // utime, forward, lateral, heading, covariance, robot (4 bytes and 4 of padding to 8)
+  EXPECT_EQ(sizeof(roam_odometry), 8u + 3 * 8 + 9 * 8 + 8);
 }
 
 TEST(Loader, RejectsALibraryWithoutTheEntrySymbol) {
@@ -58,7 +59,7 @@ TEST(Loader, AMissingPluginGetsAHint) {
             "no plugin 'deadreckonin' in " + kDir + " (did you mean 'deadreckoning'?)");
   EXPECT_EQ(openError("kalman"), "no plugin 'kalman' in " + kDir +
                                      " (available: aborts crashes create_fails deadreckoning ekf hangs "
-                                     "hungry no_entry online_em spectral spectral_batch throws wrong_layout "
+                                     "hungry no_entry online_em spectral spectral_batch team_dr throws wrong_layout "
                                      "wrong_size wrong_version)");
 }
 

