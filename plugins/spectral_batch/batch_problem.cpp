@@ -45,18 +45,6 @@ struct PosePrior {
   std::array<double, 3> mean, sigma;
 };
 
-// (calibration[index] - mean) / sigma: a prior on the range scale (index 0) or offset (1).
-struct CalibrationPrior {
-  CalibrationPrior(int index, double mean, double sigma) : index(index), mean(mean), sigma(sigma) {}
-  template <typename T>
-  bool operator()(const T* c, T* residual) const {
-    residual[0] = (c[index] - mean) / sigma;
-    return true;
-  }
-  int index;
-  double mean, sigma;
-};
-
 std::unique_ptr<ceres::LossFunction> makeLoss(SpectralBatchConfig::Loss loss, double scale) {
   switch (loss) {
     case SpectralBatchConfig::Loss::kHuber: return std::make_unique<ceres::HuberLoss>(scale);

@@ -91,6 +91,21 @@ struct OdometryCalibrationPrior {
   double sigma_bias_rad_s;
 };
 
+// (calibration[index] - mean) / sigma: a prior on the range scale (index 0) or offset (1).
+struct CalibrationPrior {
+  CalibrationPrior(int index, double mean, double sigma) : index(index), mean(mean), sigma(sigma) {}
+  template <typename T>
+  bool operator()(const T* c, T* residual) const {
+    residual[0] = (c[index] - mean) / sigma;
+    return true;
+  }
+  static ceres::CostFunction* create(int index, double mean, double sigma) {
+    return new ceres::AutoDiffCostFunction<CalibrationPrior, 1, 2>(new CalibrationPrior(index, mean, sigma));
+  }
+  int index;
+  double mean, sigma;
+};
+
 // The predicted-minus-measured range, whitened, from a robot position p.
 template <typename T>
 T whitenedRangeError(const T& robot_x_m, const T& robot_y_m, const T* beacon, const T* calibration,

@@ -13,6 +13,7 @@
 
 #include "batch_redundancy.hpp"
 #include "batch_residuals.hpp"
+#include "roam/estimation/multilateration.hpp"
 
 namespace roam {
 namespace spectral_batch {
@@ -46,32 +47,32 @@ struct RobotRangeResidual {
   RobotRangeResidual(double range_m, double sigma_m, double alpha_i, double alpha_j)
       : range_m(range_m), sigma_m(sigma_m), alpha_i(alpha_i), alpha_j(alpha_j) {}
   template <typename T>
-  bool operator()(const T* a_i, const T* b_i, const T* a_j, const T* b_j, T* residual) const {
+  bool operator()(const T* a_i, const T* b_i, const T* a_j, const T* b_j, const T* calibration, T* residual) const {
     const T x_i = a_i[0] + alpha_i * (b_i[0] - a_i[0]), y_i = a_i[1] + alpha_i * (b_i[1] - a_i[1]);
     const T other[2] = {a_j[0] + alpha_j * (b_j[0] - a_j[0]), a_j[1] + alpha_j * (b_j[1] - a_j[1])};
-    const T unit_calibration[2] = {T(1.0), T(0.0)}, no_offset[1] = {T(0.0)};
-    residual[0] = whitenedRangeError(x_i, y_i, other, unit_calibration, no_offset, range_m, sigma_m);
+    const T no_offset[1] = {T(0.0)};
+    residual[0] = whitenedRangeError(x_i, y_i, other, calibration, no_offset, range_m, sigma_m);
     return true;
   }
   static ceres::CostFunction* create(double range_m, double sigma_m, double alpha_i, double alpha_j) {
-    return new ceres::AutoDiffCostFunction<RobotRangeResidual, 1, 3, 3, 3, 3>(
+    return new ceres::AutoDiffCostFunction<RobotRangeResidual, 1, 3, 3, 3, 3, 2>(
         new RobotRangeResidual(range_m, sigma_m, alpha_i, alpha_j));
   }
   double range_m, sigma_m, alpha_i, alpha_j;
 };
 
-// A range to a beacon held at its survey (no range calibration), alpha along the step (a, b).
+// A range to a beacon, alpha along the step (a, b), through the beacon ranges' calibration.
 struct BeaconRangeResidual {
   BeaconRangeResidual(double range_m, double sigma_m, double alpha) : range_m(range_m), sigma_m(sigma_m), alpha(alpha) {}
   template <typename T>
-  bool operator()(const T* a, const T* b, const T* beacon, T* residual) const {
+  bool operator()(const T* a, const T* b, const T* beacon, const T* calibration, T* residual) const {
     const T x_m = a[0] + alpha * (b[0] - a[0]), y_m = a[1] + alpha * (b[1] - a[1]);
-    const T unit_calibration[2] = {T(1.0), T(0.0)}, no_offset[1] = {T(0.0)};
-    residual[0] = whitenedRangeError(x_m, y_m, beacon, unit_calibration, no_offset, range_m, sigma_m);
+    const T no_offset[1] = {T(0.0)};
+    residual[0] = whitenedRangeError(x_m, y_m, beacon, calibration, no_offset, range_m, sigma_m);
     return true;
   }
   static ceres::CostFunction* create(double range_m, double sigma_m, double alpha) {
-    return new ceres::AutoDiffCostFunction<BeaconRangeResidual, 1, 3, 3, 2>(
+    return new ceres::AutoDiffCostFunction<BeaconRangeResidual, 1, 3, 3, 2, 2>(
         new BeaconRangeResidual(range_m, sigma_m, alpha));
   }
   double range_m, sigma_m, alpha;
@@ -176,6 +177,9 @@ void validate(const TeamInput& input) {
   }
 }
 
+// The range calibration blocks: one for the ranges between robots, one for those to beacons.
+constexpr int kRobotRanges = 0, kBeaconRanges = 1;
+
 // Everything one solve's Ceres problem points into, and the residual blocks by group.
 struct Blocks {
   std::vector<ceres::ResidualBlockId> odometry, robot_ranges, beacon_ranges, bearings;
@@ -188,7 +192,9 @@ std::unique_ptr<ceres::Problem> buildProblem(const TeamInput& input, const TeamS
                                              const TeamNoiseFactors& factors, ceres::LossFunction* loss,
                                              std::vector<std::vector<std::array<double, 3>>>* poses,
                                              std::vector<std::array<double, 2>>* calibration,
-                                             std::vector<std::array<double, 2>>* beacons, Blocks* blocks) {
+                                             std::vector<std::array<double, 2>>* beacons,
+                                             const std::vector<bool>& beacon_surveyed,
+                                             std::array<std::array<double, 2>, 2>* range_calibration, Blocks* blocks) {
   ceres::Problem::Options problem_options;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   auto problem = std::make_unique<ceres::Problem>(problem_options);
@@ -226,26 +232,42 @@ std::unique_ptr<ceres::Problem> buildProblem(const TeamInput& input, const TeamS
             nullptr, odometry_calibration);
     }
   }
+  // The range calibration of each kind of range (between robots, to beacons): scale and offset,
+  // with the shared priors, or held at (1, 0).
+  const auto addCalibration = [&](std::array<double, 2>* calibration) {
+    problem->AddParameterBlock(calibration->data(), 2);
+    if (!options.estimate_range_calibration) {
+      problem->SetParameterBlockConstant(calibration->data());
+      return;
+    }
+    if (options.range_scale_prior_sigma > 0.0)
+      problem->AddResidualBlock(CalibrationPrior::create(0, 1.0, options.range_scale_prior_sigma), nullptr, calibration->data());
+    if (options.range_offset_prior_sigma_m > 0.0)
+      problem->AddResidualBlock(CalibrationPrior::create(1, 0.0, options.range_offset_prior_sigma_m), nullptr,
+                                calibration->data());
+  };
+  if (!robot_ranges.empty()) addCalibration(&(*range_calibration)[kRobotRanges]);
+  if (!beacon_observations.empty()) addCalibration(&(*range_calibration)[kBeaconRanges]);
   for (const RobotRangeObservation& o : robot_ranges) {
     auto& path_i = (*poses)[o.robot_i];
     auto& path_j = (*poses)[o.robot_j];
     blocks->robot_ranges.push_back(problem->AddResidualBlock(
         RobotRangeResidual::create(o.range_m, o.sigma_m * factors.robot_range, o.at_i.alpha, o.at_j.alpha), loss,
         path_i[o.at_i.step].data(), path_i[o.at_i.step + 1].data(), path_j[o.at_j.step].data(),
-        path_j[o.at_j.step + 1].data()));
+        path_j[o.at_j.step + 1].data(), (*range_calibration)[kRobotRanges].data()));
   }
   for (const BeaconObservation& o : beacon_observations) {
     auto& path = (*poses)[o.robot];
     double* beacon = (*beacons)[o.beacon].data();
     const double sigma_m = o.sigma_m * factors.beacon;
-    blocks->beacon_ranges.push_back(problem->AddResidualBlock(BeaconRangeResidual::create(o.range_m, sigma_m, o.at.alpha),
-                                                              loss, path[o.at.step].data(),
-                                                              path[o.at.step + 1].data(), beacon));
+    blocks->beacon_ranges.push_back(problem->AddResidualBlock(
+        BeaconRangeResidual::create(o.range_m, sigma_m, o.at.alpha), loss, path[o.at.step].data(),
+        path[o.at.step + 1].data(), beacon, (*range_calibration)[kBeaconRanges].data()));
     if (o.has_bearing)
       blocks->bearings.push_back(problem->AddResidualBlock(
           BearingResidual::create(o.bearing_rad, sigma_m / std::max(o.range_m, sigma_m), o.at.alpha), loss,
           path[o.at.step].data(), path[o.at.step + 1].data(), beacon));
-    problem->SetParameterBlockConstant(beacon);  // surveyed
+    if (beacon_surveyed[static_cast<size_t>(o.beacon)]) problem->SetParameterBlockConstant(beacon);
   }
   return problem;
 }
@@ -259,6 +281,54 @@ int downweighted(ceres::Problem& problem, const std::vector<ceres::ResidualBlock
     if (std::abs(residual) > scale) ++count;
   }
   return count;
+}
+
+// Beacons the survey lacks, placed from their ranges at the dead-reckoned positions they were
+// taken from (the initial guess): the consensus of the range circles (up to half of the ranges
+// may be wrong), tolerance 3 sigma each. A beacon is placed where it has kMinRangesToPlace ranges
+// whose positions spread kMinSpreadToPlace_m off a line (the multilateration's own defaults: a
+// narrower spread has a mirror image that fits as well); the solve then refines it with the rest.
+constexpr int kMinRangesToPlace = 6;
+constexpr double kMinSpreadToPlace_m = 3.0;
+
+std::map<int, std::array<double, 2>> placeUnsurveyedBeacons(const TeamInput& input, const TeamSolveOptions& options,
+                                                            const std::vector<std::vector<int64_t>>& times,
+                                                            const std::vector<std::vector<std::array<double, 3>>>& poses,
+                                                            const std::map<int, int>& surveyed,
+                                                            std::vector<std::string>* notes) {
+  struct Sightings {
+    std::vector<std::array<double, 2>> positions_m;
+    std::vector<double> ranges_m, tolerance_m;
+  };
+  std::map<int, Sightings> by_beacon;
+  for (size_t r = 0; r < input.robots.size(); ++r) {
+    for (const Range& range : input.robots[r].beacon_ranges) {
+      StepLocation at;
+      if (surveyed.count(range.beacon_id) || !locate(times[r], range.utime, &at)) continue;
+      const auto& a = poses[r][static_cast<size_t>(at.step)];
+      const auto& b = poses[r][static_cast<size_t>(at.step) + 1];
+      Sightings& s = by_beacon[range.beacon_id];
+      s.positions_m.push_back({a[0] + at.alpha * (b[0] - a[0]), a[1] + at.alpha * (b[1] - a[1])});
+      s.ranges_m.push_back(range.range_m);
+      s.tolerance_m.push_back(3.0 * (range.sigma_m > 0.0 ? range.sigma_m : options.range_sigma_m));
+    }
+  }
+  std::map<int, std::array<double, 2>> placed;
+  for (const auto& [id, s] : by_beacon) {
+    estimation::ConsensusMultilateration consensus;
+    if (static_cast<int>(s.ranges_m.size()) >= kMinRangesToPlace &&
+        estimation::positionSpread(s.positions_m) >= kMinSpreadToPlace_m &&
+        estimation::multilaterateConsensus(s.positions_m, s.ranges_m, s.tolerance_m, &consensus)) {
+      placed[id] = consensus.point_m;
+    } else {
+      notes->push_back("beacon " + std::to_string(id) + " is not surveyed and its " + std::to_string(s.ranges_m.size()) +
+                       " range(s) do not place it (fewer than " + std::to_string(kMinRangesToPlace) +
+                       ", or taken from too near a line): they are set aside");
+    }
+  }
+  if (!placed.empty())
+    notes->push_back(std::to_string(placed.size()) + " beacon(s) not in the survey placed from their ranges");
+  return placed;
 }
 
 }  // namespace
@@ -310,9 +380,21 @@ TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options) {
 
   std::map<int, int> beacon_index;
   std::vector<std::array<double, 2>> beacons;
+  std::vector<bool> beacon_surveyed;
   for (const Beacon& beacon : input.beacons) {
     beacon_index[beacon.id] = static_cast<int>(beacons.size());
     beacons.push_back({beacon.x_m, beacon.y_m});
+    beacon_surveyed.push_back(true);
+  }
+  std::vector<int> placed_ids;
+  if (options.use_beacon_ranges && options.place_unsurveyed_beacons) {
+    const auto placed = placeUnsurveyedBeacons(input, options, times, poses, beacon_index, &result.notes);
+    for (const auto& [id, position] : placed) {
+      beacon_index[id] = static_cast<int>(beacons.size());
+      beacons.push_back(position);
+      beacon_surveyed.push_back(false);
+      placed_ids.push_back(id);
+    }
   }
   std::vector<BeaconObservation> beacon_observations;
   int unsurveyed = 0, beacon_outside_span = 0, beacon_total = 0;
@@ -343,8 +425,7 @@ TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options) {
     result.notes.push_back(std::to_string(beacon_total) + " beacon range(s) set aside: use_beacon_ranges off");
   if (unsurveyed > 0)
     result.notes.push_back(std::to_string(unsurveyed) +
-                           " beacon range(s) set aside: their beacon is not surveyed (placing beacons from "
-                           "ranges is not implemented)");
+                           " beacon range(s) set aside: their beacon is not surveyed and its ranges could not place it");
   if (beacon_outside_span > 0)
     result.notes.push_back(std::to_string(beacon_outside_span) +
                            " beacon range(s) set aside: taken outside their robot's odometry span");
@@ -365,12 +446,14 @@ TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options) {
   if (!solver_options.IsValid(&error)) fail("Ceres options: " + error);
 
   ceres::HuberLoss loss(options.huber_scale);
+  std::array<std::array<double, 2>, 2> range_calibration{{{1.0, 0.0}, {1.0, 0.0}}};
   TeamNoiseFactors factors;
   TeamSummary& summary = result.summary;
   for (int round = 0; round <= std::max(0, options.noise_rounds); ++round) {
     Blocks blocks;
-    std::unique_ptr<ceres::Problem> problem = buildProblem(input, options, dt_s, robot_ranges, beacon_observations,
-                                                           factors, &loss, &poses, &calibration, &beacons, &blocks);
+    std::unique_ptr<ceres::Problem> problem =
+        buildProblem(input, options, dt_s, robot_ranges, beacon_observations, factors, &loss, &poses, &calibration,
+                     &beacons, beacon_surveyed, &range_calibration, &blocks);
     ceres::Solver::Summary solve;
     ceres::Solve(solver_options, problem.get(), &solve);
     if (round == 0) summary.initial_cost = solve.initial_cost;
@@ -429,6 +512,16 @@ TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options) {
     result.odometry_calibration.push_back({calibration[r][0], calibration[r][1]});
   }
   result.beacons = input.beacons;
+  for (size_t i = 0; i < placed_ids.size(); ++i) {
+    Beacon beacon;
+    beacon.id = placed_ids[i];
+    const auto& position = beacons[static_cast<size_t>(beacon_index.at(beacon.id))];
+    beacon.x_m = position[0];
+    beacon.y_m = position[1];
+    result.beacons.push_back(beacon);
+  }
+  result.robot_range_calibration = range_calibration[kRobotRanges];
+  result.beacon_range_calibration = range_calibration[kBeaconRanges];
   return result;
 }
 

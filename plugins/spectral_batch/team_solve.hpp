@@ -2,13 +2,17 @@
 //
 // Unknowns: each robot r's poses world_T_robot x_r,k = (x_m, y_m, heading_rad) at its start and at
 // the end of each odometry step k; its odometry calibration c_r = (distance scale s_r,
-// heading-rate bias b_r) of estimation/motion_model.hpp. Surveyed beacons are held at the survey.
+// heading-rate bias b_r) of estimation/motion_model.hpp; the range calibration of the ranges
+// between robots, c_rr = (s, o), and of the ranges to beacons, c_b, each with the shared priors
+// (calibration_priors.hpp). Surveyed beacons are held at the survey; a beacon the survey lacks is
+// placed from its ranges (the consensus of their circles at the dead-reckoned positions) and solved.
 //
 // Cost (Ceres' 1/2 sum; residuals whitened, robust loss rho on every range and bearing):
 //   sum_r sum_k |r_odo(x_r,k, x_r,k+1, c_r)|^2               OdometryResidual (batch_residuals.hpp)
 // + sum_r |r_prior(c_r)|^2                                    OdometryCalibrationPrior
-// + sum_(i,j,t) rho(((|p_i(t) - p_j(t)| - r) / (f_rr sigma))^2)  a range between robots i and j
-// + sum_(r,m,t) rho(((|m - p_r(t)| - r) / (f_b sigma))^2)        a range to a surveyed beacon m
+// + sum_(i,j,t) rho(((s_rr |p_i(t) - p_j(t)| + o_rr - r) / (f_rr sigma))^2)  a range between robots
+// + sum_(r,m,t) rho(((s_b |m - p_r(t)| + o_b - r) / (f_b sigma))^2)         a range to beacon m
+// + |((s - 1) / sigma_s, o / sigma_o)|^2 for each range calibration
 // + sum_(r,m,t) rho((wrap(atan2(m - p_r(t)) - th_r(t) - beta) / (f_b sigma / max(r, sigma)))^2)
 // where p_r(t) = p_r,k + alpha (p_r,k+1 - p_r,k), alpha = (t - t_k) / (t_k+1 - t_k), is robot r's
 // position interpolated linearly along the step containing t (and th_r(t) its heading, the same
@@ -25,6 +29,7 @@
 // Gauge: every robot's start pose held constant (anchor = start poses).
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -61,6 +66,13 @@ struct TeamSolveOptions {
   // Re-estimations of the noise factors after the first solve, each followed by a warm re-solve.
   int noise_rounds = 2;
   bool use_beacon_ranges = true;
+  // Beacons the survey lacks are placed from their ranges (team_solve.cpp) and solved for.
+  bool place_unsurveyed_beacons = true;
+  // Each kind of range (between robots; to beacons) has its own scale and offset, with the shared
+  // priors (calibration_priors.hpp): s |d| + o. Off: (1, 0).
+  bool estimate_range_calibration = true;
+  double range_scale_prior_sigma = kRangeScalePriorSigma;
+  double range_offset_prior_sigma_m = kRangeOffsetPriorSigma_m;
   int max_iterations = 200;
   double function_tolerance = 1e-10;
   double gradient_tolerance = 1e-12;
@@ -92,7 +104,9 @@ struct TeamSummary {
 
 struct TeamResult {
   std::vector<Path> paths;  // per robot, one pose per odometry time (start included), robot set
-  Map beacons;              // the survey, as held
+  Map beacons;              // the survey, as held, then the beacons placed from their ranges
+  std::array<double, 2> robot_range_calibration{1.0, 0.0};   // scale, offset_m
+  std::array<double, 2> beacon_range_calibration{1.0, 0.0};  // scale, offset_m
   std::vector<estimation::OdometryCalibration> odometry_calibration;  // per robot
   TeamSummary summary;
   std::vector<std::string> notes;  // what was set aside and why

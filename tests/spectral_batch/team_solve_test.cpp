@@ -212,6 +212,52 @@ TEST(TeamSolve, NoisyTeamBeatsDeadReckoningAndLearnsTheOdometryNoise) {
   EXPECT_NEAR(result.summary.noise.robot_range, 1.0, kLearnedRangeFactorTolerance);
 }
 
+// A beacon no survey holds, at (6, 5) among the three loops, ranged exactly by every robot every
+// fourth pose (225 ranges); odometry off by each robot's calibration, ranges between robots exact.
+// The beacon is placed from its ranges at the dead-reckoned positions (the consensus of their
+// circles, metres off), then solved with the team: the truth is the zero-cost state, every path
+// and the beacon come back to the solver's tolerance, and the range calibration to (1, 0).
+TEST(TeamSolve, PlacesABeaconTheSurveyLacksAndRecoversItExactly) {
+  const SyntheticTeam team = driveTeam();
+  std::mt19937_64 rng(20240611u);
+  TeamInput input = inputOf(team, {{1.03, 0.004}, {0.97, -0.003}, {1.02, 0.002}}, &rng);
+  input.robot_ranges = robotRanges(team, 5, 0.1, 0.0, &rng);
+  const double beacon_x_m = 6.0, beacon_y_m = 5.0;
+  for (size_t r = 0; r < team.truth.size(); ++r)
+    for (size_t k = 4; k < team.truth[r].size(); k += 4) {
+      Range range;
+      range.utime = team.truth[r][k].utime;
+      range.robot = static_cast<int>(r);
+      range.beacon_id = 42;
+      range.range_m = std::hypot(team.truth[r][k].x_m - beacon_x_m, team.truth[r][k].y_m - beacon_y_m);
+      range.sigma_m = 0.1;
+      input.robots[r].beacon_ranges.push_back(range);
+    }
+  TeamSolveOptions options;
+  options.distance_scale_prior_sigma = 0.0;
+  options.heading_rate_bias_prior_sigma_rad_s = 0.0;
+  options.noise_rounds = 0;
+  const TeamResult result = solveTeam(input, options);
+  ASSERT_TRUE(result.summary.usable) << result.summary.report;
+  EXPECT_EQ(result.summary.beacon_ranges_used, 225);
+  ASSERT_EQ(result.beacons.size(), 1u);
+  EXPECT_EQ(result.beacons[0].id, 42);
+  EXPECT_NEAR(result.beacons[0].x_m, beacon_x_m, kExactTolerance_m);
+  EXPECT_NEAR(result.beacons[0].y_m, beacon_y_m, kExactTolerance_m);
+  EXPECT_NEAR(result.beacon_range_calibration[0], 1.0, kExactTolerance_m);
+  EXPECT_NEAR(result.beacon_range_calibration[1], 0.0, kExactTolerance_m);
+  for (size_t r = 0; r < team.truth.size(); ++r)
+    for (size_t k = 0; k < team.truth[r].size(); ++k)
+      ASSERT_NEAR(std::hypot(result.paths[r][k].x_m - team.truth[r][k].x_m, result.paths[r][k].y_m - team.truth[r][k].y_m),
+                  0.0, kExactTolerance_m) << "robot " << r << " pose " << k;
+
+  // Without placement the beacon's ranges are set aside, with a note.
+  options.place_unsurveyed_beacons = false;
+  const TeamResult without = solveTeam(input, options);
+  EXPECT_EQ(without.summary.beacon_ranges_used, 0);
+  EXPECT_TRUE(without.beacons.empty());
+}
+
 TEST(TeamSolve, RepeatedRunsAreBitIdentical) {
   TeamInput input;
   SyntheticTeam team;
