@@ -264,3 +264,103 @@ TEST_F(PlotTest, BadOptionsExitTwo) {
 }
 
 }  // namespace
+
+namespace {
+
+// A team of two robots: A's ground truth at (t, 0), B's at (t, 10), t = 0..10 s.
+// "alpha" (one-robot plugin instances alpha_A, alpha_B): POSE_ALPHA_A at (t, 1) (error 1 m),
+//   POSE_ALPHA_B at (t, 10) (error 0): team mean over 22 matches 0.5 m.
+// "beta" (a team plugin): TRAJECTORY_BETA_A at (t, 2) (error 2 m), nothing for B: team mean 2 m.
+std::string writeTeamFixture(const roam_test::ScratchDir& dir) {
+  const std::string path = dir.file("team.lcmlog");
+  FixtureLog log(path);
+  log.write("BEACONS", 0, roam::test::fixtureMap({{1, 5, 5}}));
+  roam::trajectory_t beta{};
+  beta.estimator = "beta";
+  for (int t = 0; t <= 10; ++t) {
+    const int64_t utime = t * 1000000LL;
+    log.write("GROUND_TRUTH_A", utime, fixturePose(utime, t, 0));
+    log.write("GROUND_TRUTH_B", utime, fixturePose(utime, t, 10));
+    log.write("POSE_ALPHA_A", utime, fixturePose(utime, t, 1, "alpha_A"));
+    log.write("POSE_ALPHA_B", utime, fixturePose(utime, t, 10, "alpha_B"));
+    beta.utimes.push_back(utime);
+    beta.x.push_back(t);
+    beta.y.push_back(2.0);
+    beta.heading.push_back(0.0);
+  }
+  beta.num_poses = static_cast<int32_t>(beta.utimes.size());
+  beta.utime = 10000000;
+  log.write("TRAJECTORY_BETA_A", beta.utime, beta);
+  return path;
+}
+
+class TeamPlotTest : public ::testing::Test {
+ protected:
+  roam_test::ScratchDir dir;
+  std::string log = writeTeamFixture(dir);
+  std::string prefix = dir.file("team");
+
+  roam_test::ToolResult plot(const std::string& options) {
+    return roam_test::runTool(roam_test::tool("roam-plot") + " " + log + " -o " + prefix + " " + options);
+  }
+  roam_test::ScanResult scan(const std::string& figure) {
+    return roam_test::scanXml(readFile(prefix + "-" + figure + ".svg"));
+  }
+};
+
+std::string attribute(const Element* e, const std::string& name) {
+  const auto it = e->attributes.find(name);
+  return it == e->attributes.end() ? "" : it->second;
+}
+
+// One colour per robot, one line style per estimator, and a legend that says which is which.
+TEST_F(TeamPlotTest, OneColourPerRobotAndOneStylePerEstimator) {
+  const auto r = plot("--layout overlay --no-png");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto svg = scan("paths");
+  ASSERT_TRUE(svg.balanced) << svg.problem;
+  EXPECT_EQ(polylineTitles(svg, "truth"), (std::vector<std::string>{"ground truth A", "ground truth B"}));
+  EXPECT_EQ(polylineTitles(svg, "estimate"), (std::vector<std::string>{"alpha A", "alpha B", "beta A"}));
+  const auto truths = withClass(svg, "polyline", "truth");
+  const auto paths = withClass(svg, "polyline", "estimate");
+  ASSERT_EQ(truths.size(), 2u);
+  ASSERT_EQ(paths.size(), 3u);
+  EXPECT_NE(attribute(truths[0], "stroke"), attribute(truths[1], "stroke"));
+  EXPECT_EQ(attribute(paths[0], "stroke"), attribute(truths[0], "stroke"));  // alpha A: A's colour
+  EXPECT_EQ(attribute(paths[1], "stroke"), attribute(truths[1], "stroke"));  // alpha B: B's colour
+  EXPECT_EQ(attribute(paths[2], "stroke"), attribute(truths[0], "stroke"));  // beta A: A's colour
+  EXPECT_EQ(attribute(paths[0], "stroke-dasharray"), "");                     // alpha solid
+  EXPECT_EQ(attribute(paths[1], "stroke-dasharray"), "");
+  EXPECT_NE(attribute(paths[2], "stroke-dasharray"), "");                     // beta dashed
+  EXPECT_TRUE(hasText(svg, "robot A"));
+  EXPECT_TRUE(hasText(svg, "robot B"));
+  EXPECT_TRUE(hasText(svg, "alpha (solid, team mean error 0.50 m)"));
+  EXPECT_TRUE(hasText(svg, "beta (dashed, team mean error 2.00 m)"));
+}
+
+TEST_F(TeamPlotTest, PanelsPerEstimatorShowEveryRobot) {
+  ASSERT_EQ(plot("--no-png").status, 0);
+  const auto svg = scan("paths");
+  ASSERT_TRUE(svg.balanced) << svg.problem;
+  EXPECT_EQ(withClass(svg, "polyline", "truth").size(), 4u);  // both robots in each of two panels
+  EXPECT_TRUE(hasText(svg, "alpha (solid)"));
+  EXPECT_TRUE(hasText(svg, "team mean error 2.00 m"));
+}
+
+// The error figure: one curve per robot and estimator, each against its own robot's truth.
+TEST_F(TeamPlotTest, ErrorCurvePerRobotAndEstimator) {
+  ASSERT_EQ(plot("--width 800 --height 400 --no-png").status, 0);
+  const auto svg = scan("error");
+  ASSERT_TRUE(svg.balanced) << svg.problem;
+  EXPECT_EQ(polylineTitles(svg, "error"), (std::vector<std::string>{"alpha A", "alpha B", "beta A"}));
+  const auto curves = withClass(svg, "polyline", "error");
+  ASSERT_EQ(curves.size(), 3u);
+  for (const Element* curve : curves) EXPECT_EQ(pointCount(*curve), 11u);
+  EXPECT_NE(attribute(curves[2], "stroke-dasharray"), "");
+  EXPECT_TRUE(hasText(svg, "robot B"));
+  const auto r = plot("--estimators gamma --no-png");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("alpha, beta"), std::string::npos) << r.out;
+}
+
+}  // namespace

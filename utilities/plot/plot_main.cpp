@@ -3,6 +3,8 @@
 // Writes PREFIX-paths.svg and PREFIX-error.svg (paths_figure.hpp, error_figure.hpp) and the same
 // as PREFIX-paths.png and PREFIX-error.png at WIDTH x HEIGHT pixels (rsvg-convert). Exit 2 with
 // a one-line message on a bad option, an unreadable log or a missing rsvg-convert.
+// A team's log (GROUND_TRUTH_<R> per robot) is drawn by team_figures.hpp: a colour per robot, a
+// line style per estimator, one error curve per robot and estimator.
 #include <boost/program_options.hpp>
 #include <cstdio>
 #include <exception>
@@ -16,6 +18,7 @@
 #include "plot_series.hpp"
 #include "png_render.hpp"
 #include "result_log.hpp"
+#include "team_figures.hpp"
 
 namespace po = boost::program_options;
 
@@ -89,15 +92,22 @@ int main(int argc, char** argv) {
     const roam::ResultLog log = roam::readResultLog(log_path);
     if (log.skipped > 0)
       std::fprintf(stderr, "roam-plot: %s: skipped %ld corrupt or undecodable events\n", log_path.c_str(), log.skipped);
-    if (log.ground_truth.empty())
+    if (log.ground_truth.empty() && !log.isTeam())
       std::fprintf(stderr, "roam-plot: %s: no GROUND_TRUTH: paths only, no errors\n", log_path.c_str());
-    const auto series = roam::plot::collectSeries(log, splitList(estimators), vm.count("no-odometry") == 0);
     options.title = runLabel(log_path);
-
+    std::string paths_svg, error_svg;
+    if (log.isTeam()) {  // team_figures.hpp: a colour per robot, a line style per estimator
+      const auto series = roam::plot::collectTeamSeries(log, splitList(estimators));
+      paths_svg = roam::plot::teamPathsFigureSvg(log, series, options);
+      error_svg = roam::plot::teamErrorFigureSvg(log, series, options);
+    } else {
+      const auto series = roam::plot::collectSeries(log, splitList(estimators), vm.count("no-odometry") == 0);
+      paths_svg = roam::plot::pathsFigureSvg(log, series, options);
+      error_svg = roam::plot::errorFigureSvg(log, series, options);
+    }
     for (const char* figure : {"paths", "error"}) {
       const std::string svg_path = prefix + "-" + figure + ".svg";
-      writeFile(svg_path, figure == std::string("paths") ? roam::plot::pathsFigureSvg(log, series, options)
-                                                         : roam::plot::errorFigureSvg(log, series, options));
+      writeFile(svg_path, figure == std::string("paths") ? paths_svg : error_svg);
       std::printf("roam-plot: wrote %s\n", svg_path.c_str());
     }
     if (vm.count("no-png") == 0) {

@@ -27,6 +27,10 @@ Stroke estimateStroke(const std::string& colour, bool dashed) {
   return Stroke{colour, dashed ? 1.4 : 1.6, dashed ? "6 4" : "", 0.95};
 }
 
+Stroke teamPathStroke(const std::string& colour, const std::string& dash) { return Stroke{colour, 1.8, dash, 0.95}; }
+
+Stroke teamTruthStroke(const std::string& colour) { return Stroke{colour, 6.0, "", 0.25}; }
+
 double textWidth(const std::string& text, double size_px) {
   size_t chars = 0;
   for (unsigned char c : text) chars += (c & 0xC0) != 0x80;  // UTF-8 code points
@@ -55,6 +59,8 @@ double drawLegend(SvgWriter* svg, const std::vector<LegendItem>& items, double x
           svg->ellipse(x + kSwatchPx / 2, mid, 11, 6, 0, "none", Stroke{item.colour, 1.0, "3 2"});
           break;
         case Mark::kStart: drawStart(*svg, x + kSwatchPx / 2, mid); break;
+        case Mark::kStyledLine: svg->line(x, mid, right, mid, teamPathStroke(item.colour, item.dash)); break;
+        case Mark::kBand: svg->line(x, mid, right, mid, teamTruthStroke(item.colour)); break;
       }
       svg->text(x + kSwatchPx + 6, y, item.label, text);
     }

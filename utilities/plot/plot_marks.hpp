@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "svg_writer.hpp"
@@ -10,7 +11,8 @@
 namespace roam {
 namespace plot {
 
-enum class Mark { kLine, kDashedLine, kTruthLine, kTrueBeacon, kEstimatedBeacon, kEllipse, kStart };
+// kStyledLine: a team's path (colour, dash); kBand: a team robot's ground truth (colour).
+enum class Mark { kLine, kDashedLine, kTruthLine, kTrueBeacon, kEstimatedBeacon, kEllipse, kStart, kStyledLine, kBand };
 
 void drawTrueBeacon(SvgWriter& svg, double x, double y);
 void drawEstimatedBeacon(SvgWriter& svg, double x, double y, const std::string& colour);
@@ -19,11 +21,18 @@ void drawStart(SvgWriter& svg, double x, double y);
 // The ground truth's line style, and an estimate's (dashed: the odometry baseline).
 Stroke truthStroke();
 Stroke estimateStroke(const std::string& colour, bool dashed);
+// A team's: a robot's path in its colour and the estimator's dash; a robot's ground truth.
+Stroke teamPathStroke(const std::string& colour, const std::string& dash);
+Stroke teamTruthStroke(const std::string& colour);
 
 struct LegendItem {
+  LegendItem() = default;
+  LegendItem(Mark mark_, std::string colour_, std::string label_, std::string dash_ = "")
+      : mark(mark_), colour(std::move(colour_)), label(std::move(label_)), dash(std::move(dash_)) {}
   Mark mark = Mark::kLine;
   std::string colour;
   std::string label;
+  std::string dash;  // kStyledLine only
 };
 
 // Lays items out left to right from (x, y: the first row's text baseline), wrapping before
