@@ -3,6 +3,7 @@ package roam.spy;
 import java.util.Collections;
 import roam.estimator_status_t;
 import roam.pose_t;
+import roam.trajectory_t;
 
 /**
  * Unit tests of the map view's pieces that need no display: path decimation, ground-truth
@@ -25,6 +26,7 @@ public final class MapViewUnitTest {
         transformFitsABoxAndInvertsItself();
         stickyFitKeepsAPictureThatStillShowsEverything();
         modelNamesColoursAndErrors();
+        teamTracksTakeTheirRobotsColourAndTheirEstimatorsStyle();
         readoutNumbers();
         eachEstimatorsMapIsDrawnInItsOwnColour();
         System.out.println("PASSED: " + checks + " checks");
@@ -140,6 +142,40 @@ public final class MapViewUnitTest {
         check("roam-plot's first colour", Palette.hex(Palette.series(0)).equals("#0072B2"));
         check("roam-plot's second colour", Palette.hex(Palette.series(1)).equals("#D55E00"));
         check("palette wraps at 8", Palette.series(8).equals(Palette.series(0)));
+    }
+
+    static void teamTracksTakeTheirRobotsColourAndTheirEstimatorsStyle() {
+        final MapModel model = new MapModel();
+        // Robots B then A appear; colours go by name (A first), as roam-plot's.
+        for (int i = 0; i <= 10; ++i) {
+            model.onPose("GROUND_TRUTH_B", pose(i * 1_000_000L, "", i, 10));
+            model.onPose("GROUND_TRUTH_A", pose(i * 1_000_000L, "", i, 0));
+        }
+        model.onPose("POSE_DR_B", pose(5_000_000L, "dr_B", 5, 12));  // a one-robot plugin's instance: 2 m off
+        model.onPose("POSE_DR_A", pose(5_000_000L, "dr_A", 5, 1));   // 1 m off
+        final trajectory_t t = new trajectory_t();
+        t.estimator = "team";                                       // a team plugin's path for A
+        t.num_poses = 2;
+        t.utimes = new long[] {0, 1_000_000L};
+        t.x = new double[] {0, 1};
+        t.y = new double[] {0, 0};
+        t.heading = new double[] {0, 0};
+        model.onTrajectory("TRAJECTORY_TEAM_A", t);
+        final MapModel.Snapshot s = model.snapshot();
+        check("two robots in name order", s.robots.size() == 2 && s.robots.get(0).name.equals("A")
+                                          && s.robots.get(0).colourIndex == 0 && s.robots.get(1).colourIndex == 1);
+        check("robot starts from their truth", s.robots.get(1).start[1] == 10);
+        check("three tracks", s.tracks.size() == 3);
+        final MapModel.Track drB = s.tracks.get(0), drA = s.tracks.get(1), teamA = s.tracks.get(2);
+        check("instance named as published", drB.name.equals("dr_B") && drB.robot.equals("B"));
+        check("B's colour", drB.colourIndex == 1 && drA.colourIndex == 0);
+        check("error against the robot's own truth", Math.abs(drB.errorM - 2) < kTolerance
+                                                     && Math.abs(drA.errorM - 1) < kTolerance);
+        check("team path named by its robot", teamA.name.equals("team_A") && teamA.robot.equals("A")
+                                              && teamA.colourIndex == 0);
+        check("styles by estimator", drA.styleIndex == 0 && drB.styleIndex == 0 && teamA.styleIndex == 1);
+        check("estimators in style order", s.estimators.equals(java.util.Arrays.asList("dr", "team")));
+        check("a dashed second style", MapPainter.styleName(1).equals("dashed"));
     }
 
     static void readoutNumbers() {

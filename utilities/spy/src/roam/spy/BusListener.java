@@ -20,8 +20,8 @@ import roam.trajectory_t;
  */
 final class BusListener implements LCMSubscriber {
     private static final int QUEUE = 50000;
-    /** The channels the view draws (a regular expression, as LCM subscribes). */
-    static final String CHANNELS = "GROUND_TRUTH|INITIAL_POSE|BEACONS|POSE_.*|MAP_.*|TRAJECTORY_.*|STATUS_.*";
+    /** The channels the view draws (a regular expression, as LCM subscribes); a team's GROUND_TRUTH_<R> too. */
+    static final String CHANNELS = "GROUND_TRUTH(_.+)?|INITIAL_POSE(_.+)?|BEACONS|POSE_.*|MAP_.*|TRAJECTORY_.*|STATUS_.*";
 
     private static final class Raw {
         final String channel;

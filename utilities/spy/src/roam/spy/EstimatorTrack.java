@@ -19,6 +19,9 @@ final class EstimatorTrack {
     map_t map;
     estimator_status_t status;
     long messages;
+    String robot;      // a team robot's track (MapModel): the robot, else null
+    String estimator;  // and its estimator
+    int styleIndex;
 
     // A ring of the newest poses, for the error against ground truth at a matched time.
     final long[] recentUtime = new long[RECENT];

@@ -209,6 +209,14 @@ final class MapCanvas extends JComponent {
             frame = new Frame(image, t, legend, s, h);
             tookNs = System.nanoTime() - lastNs;
             stats.recordPaint(tookNs, CPU.getCurrentThreadCpuTime() - cpuStart, layer != before);
+            // A layer kept though outdated (built under REBUILD_NS ago) misses what came since,
+            // e.g. a team plugin's final trajectories, the last messages of a run: draw again,
+            // so the rebuild comes even when nothing more arrives.
+            if (layer == before && layer.outdated(s)) {
+                synchronized (lock) {
+                    dirty = true;
+                }
+            }
             repaint();
         }
     }

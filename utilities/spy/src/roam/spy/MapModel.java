@@ -4,6 +4,7 @@ import java.util.ArrayList;
 import java.util.LinkedHashMap;
 import java.util.List;
 import java.util.Map;
+import java.util.TreeMap;
 import roam.beacon_t;
 import roam.estimator_status_t;
 import roam.map_t;
@@ -14,6 +15,12 @@ import roam.trajectory_t;
  * Everything the map view draws, filled by BusListener's decoder thread and read by the Swing
  * thread through snapshot(). One lock; both sides hold it only to copy (the decoder: one message;
  * the painter: capped arrays), never while decoding or drawing.
+ *
+ * A team (GROUND_TRUTH_<R> / INITIAL_POSE_<R> on the bus) is drawn one colour per robot (the
+ * robots in name order, as roam-plot colours them) and one line style per estimator: a track
+ * whose channel ends in _<R> for a known robot R is that robot's (a one-robot plugin's instance
+ * NAME_<R>, or a team plugin's TRAJECTORY_<NAME>_<R>), its style its estimator's (NAME) order of
+ * appearance. Single-robot tracks keep their own colour and a solid line.
  */
 final class MapModel {
     /** Points kept per drawn path (POSE_ paths, ground truth, each TRAJECTORY_). */
@@ -25,6 +32,15 @@ final class MapModel {
     private final DecimatedPath truthPath = new DecimatedPath(PATH_CAP);
     private map_t surveyed;
     private double[] start;  // INITIAL_POSE {x, y}
+    private final Map<String, Robot> robots = new TreeMap<>();  // a team's, by name
+    private final Map<String, Integer> styles = new LinkedHashMap<>();  // a team's estimators
+
+    /** A team robot's ground truth and start. */
+    private static final class Robot {
+        final GroundTruth truth = new GroundTruth();
+        final DecimatedPath path = new DecimatedPath(PATH_CAP);
+        double[] start;
+    }
     private long version;
 
     void onPose(String channel, pose_t p) {
@@ -34,6 +50,12 @@ final class MapModel {
                 truthPath.add(p.utime, p.x, p.y);
             } else if (channel.equals("INITIAL_POSE")) {
                 start = new double[] {p.x, p.y};
+            } else if (channel.startsWith("GROUND_TRUTH_")) {
+                final Robot r = robot(channel.substring("GROUND_TRUTH_".length()));
+                r.truth.add(p.utime, p.x, p.y);
+                r.path.add(p.utime, p.x, p.y);
+            } else if (channel.startsWith("INITIAL_POSE_")) {
+                robot(channel.substring("INITIAL_POSE_".length())).start = new double[] {p.x, p.y};
             } else {
                 track(p.estimator, channel).addPose(p.utime, p.x, p.y);
             }
@@ -70,6 +92,8 @@ final class MapModel {
             truthPath.clear();
             surveyed = null;
             start = null;
+            robots.clear();
+            styles.clear();
             ++version;
         }
     }
@@ -80,16 +104,48 @@ final class MapModel {
         }
     }
 
-    // Messages name their estimator; a message without one goes by its channel's suffix.
+    private Robot robot(String name) {
+        return robots.computeIfAbsent(name, n -> new Robot());
+    }
+
+    // The known robot whose "_<R>" ends text after at least one character, the longest; or null.
+    private String robotOf(String text) {
+        String best = null;
+        for (String r : robots.keySet()) {
+            final String tail = "_" + r;
+            if (text.length() > tail.length() && text.endsWith(tail) && (best == null || r.length() > best.length()))
+                best = r;
+        }
+        return best;
+    }
+
+    // Messages name their estimator; a message without one goes by its channel's suffix. In a
+    // team, a team plugin's robot R path (TRAJECTORY_<NAME>_<R>, estimator NAME) is track NAME_<R>.
     private EstimatorTrack track(String estimator, String channel) {
         String name = estimator;
         if (name == null || name.isEmpty()) {
             final int cut = channel.indexOf('_');
             name = (cut >= 0 ? channel.substring(cut + 1) : channel).toLowerCase();
         }
+        String robot = null, base = name;
+        if (!robots.isEmpty()) {
+            robot = robotOf(name);
+            if (robot != null) {
+                base = name.substring(0, name.length() - robot.length() - 1);
+            } else {
+                robot = robotOf(channel);
+                if (robot != null) name = name + "_" + robot;
+            }
+        }
         EstimatorTrack t = tracks.get(name);
         if (t == null) {
             t = new EstimatorTrack(name, tracks.size(), PATH_CAP);
+            t.robot = robot;
+            if (robot != null) {
+                if (!styles.containsKey(base)) styles.put(base, styles.size());
+                t.styleIndex = styles.get(base);
+                t.estimator = base;
+            }
             tracks.put(name, t);
         }
         ++t.messages;
@@ -125,6 +181,17 @@ final class MapModel {
         double errorM = Double.NaN;   // against ground truth at errorUtime
         long errorUtime;
         long messages;
+        String robot;            // a team robot's track: the robot, else null
+        String estimator;        // a team robot's track: its estimator (the name without _<R>)
+        int styleIndex;          // a team robot's track: its estimator's line style (MapPainter.dash)
+    }
+
+    /** A team robot as drawn. */
+    static final class RobotTruth {
+        String name;
+        int colourIndex;         // its place among the robots in name order
+        double[][] path;         // {xs, ys, utimes} or null
+        double[] start;
     }
 
     /** A consistent copy of everything drawn, taken under the lock. */
@@ -135,6 +202,8 @@ final class MapModel {
         double[] start;
         List<Beacon> beacons = new ArrayList<>();
         List<Track> tracks = new ArrayList<>();
+        List<RobotTruth> robots = new ArrayList<>();  // a team's, in name order; empty for one robot
+        List<String> estimators = new ArrayList<>();  // a team's estimators, in style order
     }
 
     Snapshot snapshot() {
@@ -147,6 +216,18 @@ final class MapModel {
             else if (truth.size() > 0) s.start = truth.at(truth.firstUtime());
             if (surveyed != null)
                 for (beacon_t b : surveyed.beacons) s.beacons.add(new Beacon(b));
+            int i = 0;
+            for (Map.Entry<String, Robot> e : robots.entrySet()) {
+                final RobotTruth r = new RobotTruth();
+                r.name = e.getKey();
+                r.colourIndex = i++;
+                final Robot robot = e.getValue();
+                r.path = robot.path.isEmpty() ? null : robot.path.copyPolyline();
+                if (robot.start != null) r.start = robot.start.clone();
+                else if (robot.truth.size() > 0) r.start = robot.truth.at(robot.truth.firstUtime());
+                s.robots.add(r);
+            }
+            s.estimators.addAll(styles.keySet());
             for (EstimatorTrack t : tracks.values()) s.tracks.add(copy(t));
         }
         return s;
@@ -156,6 +237,14 @@ final class MapModel {
         final Track c = new Track();
         c.name = t.name;
         c.colourIndex = t.colourIndex;
+        GroundTruth truth = this.truth;
+        if (t.robot != null) {
+            c.robot = t.robot;
+            c.estimator = t.estimator;
+            c.styleIndex = t.styleIndex;
+            c.colourIndex = new ArrayList<>(robots.keySet()).indexOf(t.robot);
+            truth = robots.get(t.robot).truth;
+        }
         c.path = t.poses.copyPolyline();
         c.trajectory = t.trajectory;  // replaced whole, never changed in place
         if (t.map != null)

@@ -22,6 +22,9 @@ import java.util.Set;
  * TRAJECTORY_ (a pale band beneath) and MAP_ (crosses with 2-sigma ellipses), its current position, surveyed
  * beacons, the start, a legend of marks and a scale bar. Styles follow roam-plot
  * (plot_marks.cpp). Polylines skip points less than a pixel from the last one drawn. Called off the Swing thread (MapCanvas).
+ * A team (MapModel) is drawn as roam-plot draws one: each robot's ground truth a wide pale band
+ * in its colour, each estimator's path for it a line in that colour and the estimator's style
+ * (solid, dashed, dotted, dash-dot), and a second legend of robots and styles.
  */
 final class MapPainter {
     private static final int MARGIN_PX = 24;
@@ -36,6 +39,45 @@ final class MapPainter {
                                                           new float[] {3f, 2f}, 0f);
     private static final Stroke CROSS = new BasicStroke(2.4f);
     private static final Color GRID = new Color(0xECECEC);
+    // A team's (team_figures.cpp): a robot's ground truth, and an estimator's path per style.
+    private static final Stroke TEAM_TRUTH = new BasicStroke(6f, BasicStroke.CAP_ROUND, BasicStroke.JOIN_ROUND);
+    private static final float[][] DASHES = {null, {7f, 4f}, {1.5f, 3f}, {9f, 3f, 1.5f, 3f}};
+    private static final String[] STYLE_NAMES = {"solid", "dashed", "dotted", "dash-dot"};
+    private static final Stroke[] TEAM_PATHS = new Stroke[DASHES.length];
+
+    static {
+        for (int i = 0; i < DASHES.length; ++i)
+            TEAM_PATHS[i] = DASHES[i] == null ? PATH
+                : new BasicStroke(2f, BasicStroke.CAP_ROUND, BasicStroke.JOIN_ROUND, 10f, DASHES[i], 0f);
+    }
+
+    /** A team estimator's line style (index: its order of appearance), as roam-plot's teamDash. */
+    static Stroke teamPath(int style) {
+        return TEAM_PATHS[Math.floorMod(style, TEAM_PATHS.length)];
+    }
+
+    static String styleName(int style) {
+        return STYLE_NAMES[Math.floorMod(style, STYLE_NAMES.length)];
+    }
+
+    /** A team robot's ground truth: its colour at 25 % opacity (team_figures.cpp). */
+    static Color teamTruth(int colourIndex) {
+        final Color c = Palette.series(colourIndex);
+        return new Color(c.getRed(), c.getGreen(), c.getBlue(), 64);
+    }
+
+    private static Stroke pathStroke(MapModel.Track track) {
+        return track.robot == null ? PATH : teamPath(track.styleIndex);
+    }
+
+    private static void drawTeamTruth(Graphics2D g, WorldTransform t, MapModel.Snapshot s) {
+        g.setStroke(TEAM_TRUTH);
+        for (MapModel.RobotTruth r : s.robots) {
+            if (r.path == null) continue;
+            g.setColor(teamTruth(r.colourIndex));
+            drawPolyline(g, t, r.path, 0);
+        }
+    }
 
     private MapPainter() {}
 
@@ -59,6 +101,7 @@ final class MapPainter {
         final double truthUntil;
         final Map<String, Double> pathUntil = new HashMap<>();
         final Map<String, double[][]> trajectories = new HashMap<>();
+        final Map<String, Double> robotTruthUntil = new HashMap<>();  // a team's
         final long builtNs = System.nanoTime();
 
         Layer(BufferedImage image, WorldTransform transform, Set<String> hidden, double truthUntil) {
@@ -76,6 +119,10 @@ final class MapPainter {
 
         boolean outdated(MapModel.Snapshot s) {
             if (s.truthPath != null && tailStart(s.truthPath, truthUntil) < s.truthPath[0].length - TAIL_POINTS) return true;
+            for (MapModel.RobotTruth r : s.robots) {
+                final Double until = robotTruthUntil.get(r.name);
+                if (r.path != null && (until == null || tailStart(r.path, until) < r.path[0].length - TAIL_POINTS)) return true;
+            }
             for (MapModel.Track track : s.tracks) {
                 if (hidden.contains(track.name)) continue;
                 final Double until = pathUntil.get(track.name);
@@ -105,18 +152,24 @@ final class MapPainter {
                 g.setStroke(TRUTH);
                 drawPolyline(g, t, s.truthPath, 0);
             }
+            drawTeamTruth(g, t, s);
+            for (MapModel.RobotTruth r : s.robots)
+                if (r.path != null) layer.robotTruthUntil.put(r.name, last(r.path));
             for (MapModel.Track track : s.tracks) {
                 if (hidden.contains(track.name)) continue;
                 layer.trajectories.put(track.name, track.trajectory);
                 if (track.trajectory == null) continue;
-                g.setColor(pale(Palette.series(track.colourIndex)));
-                g.setStroke(TRAJECTORY);
+                // A team robot's trajectory is often its estimator's only path (a team plugin
+                // publishes no POSE_): drawn as its path is, not as a band like the ground truth's.
+                final boolean team = track.robot != null;
+                g.setColor(team ? Palette.series(track.colourIndex) : pale(Palette.series(track.colourIndex)));
+                g.setStroke(team ? teamPath(track.styleIndex) : TRAJECTORY);
                 drawPolyline(g, t, track.trajectory, 0);
             }
-            g.setStroke(PATH);
             for (MapModel.Track track : s.tracks) {
                 if (hidden.contains(track.name)) continue;
                 layer.pathUntil.put(track.name, last(track.path));
+                g.setStroke(pathStroke(track));
                 g.setColor(Palette.series(track.colourIndex));
                 drawPolyline(g, t, track.path, 0);
             }
@@ -135,10 +188,18 @@ final class MapPainter {
             g.setStroke(TRUTH);
             drawPolyline(g, t, s.truthPath, tailStart(s.truthPath, layer.truthUntil));
         }
+        g.setStroke(TEAM_TRUTH);
+        for (MapModel.RobotTruth r : s.robots) {
+            if (r.path == null) continue;
+            final Double until = layer.robotTruthUntil.get(r.name);
+            g.setColor(teamTruth(r.colourIndex));
+            drawPolyline(g, t, r.path, until == null ? 0 : tailStart(r.path, until));
+        }
         g.setStroke(PATH);
         for (MapModel.Track track : s.tracks) {
             if (hidden.contains(track.name)) continue;
             final Double until = layer.pathUntil.get(track.name);
+            g.setStroke(pathStroke(track));
             g.setColor(Palette.series(track.colourIndex));
             drawPolyline(g, t, track.path, until == null ? 0 : tailStart(track.path, until));
         }
@@ -155,6 +216,8 @@ final class MapPainter {
             g.draw(new Ellipse2D.Double(x - 4.5, y - 4.5, 9, 9));
         }
         if (s.start != null) drawStart(g, t.px(s.start[0]), t.py(s.start[1]));
+        for (MapModel.RobotTruth r : s.robots)
+            if (r.start != null) drawStart(g, t.px(r.start[0]), t.py(r.start[1]));
         g.setFont(FONT);
         for (MapModel.Beacon b : s.beacons) {
             final double x = t.px(b.x), y = t.py(b.y);
@@ -163,6 +226,7 @@ final class MapPainter {
             g.drawString(Integer.toString(b.id), (float) (x + 8), (float) (y - 6));
         }
         final Rectangle legend = drawLegend(g);
+        if (!s.robots.isEmpty()) legend.add(drawTeamLegend(g, s, legend.y + legend.height + 6));
         drawScaleBar(g, t);
         return legend;
     }
@@ -175,6 +239,10 @@ final class MapPainter {
         if (s.truthPath != null) core.addAll(s.truthPath);
         for (MapModel.Beacon b : s.beacons) core.add(b.x, b.y);
         if (s.start != null) core.add(s.start[0], s.start[1]);
+        for (MapModel.RobotTruth r : s.robots) {
+            if (r.path != null) core.addAll(r.path);
+            if (r.start != null) core.add(r.start[0], r.start[1]);
+        }
         if (core.empty()) {
             for (MapModel.Track t : s.tracks) {
                 if (hidden.contains(t.name)) continue;
@@ -387,6 +455,38 @@ final class MapPainter {
             g.drawString(labels[i], x0 + swatch + 12, (float) (mid + 4));
         }
         return new Rectangle(x0, y0, swatch + w + 20 + 1, labels.length * row + 8 + 1);
+    }
+
+    // A team's legend below the marks': each robot's colour, then each estimator's line style.
+    private static Rectangle drawTeamLegend(Graphics2D g, MapModel.Snapshot s, int y0) {
+        final int rows = s.robots.size() + s.estimators.size();
+        final String[] labels = new String[rows];
+        for (int i = 0; i < s.robots.size(); ++i) labels[i] = "robot " + s.robots.get(i).name;
+        for (int i = 0; i < s.estimators.size(); ++i)
+            labels[s.robots.size() + i] = s.estimators.get(i) + " (" + styleName(i) + ")";
+        g.setFont(FONT);
+        final int row = 16, x0 = 8, swatch = 24;
+        int w = 0;
+        for (String l : labels) w = Math.max(w, g.getFontMetrics().stringWidth(l));
+        g.setColor(new Color(255, 255, 255, 230));
+        g.fillRect(x0, y0, swatch + w + 20, rows * row + 8);
+        g.setColor(Palette.FRAME);
+        g.setStroke(new BasicStroke(1f));
+        g.drawRect(x0, y0, swatch + w + 20, rows * row + 8);
+        for (int i = 0; i < rows; ++i) {
+            final double mid = y0 + 4 + i * row + row / 2.0, sx = x0 + 6;
+            if (i < s.robots.size()) {
+                g.setColor(Palette.series(s.robots.get(i).colourIndex));
+                g.setStroke(PATH);
+            } else {
+                g.setColor(Palette.OUTLINE);
+                g.setStroke(teamPath(i - s.robots.size()));
+            }
+            g.draw(new Line2D.Double(sx, mid, sx + swatch, mid));
+            g.setColor(Palette.OUTLINE);
+            g.drawString(labels[i], x0 + swatch + 12, (float) (mid + 4));
+        }
+        return new Rectangle(x0, y0, swatch + w + 20 + 1, rows * row + 8 + 1);
     }
 
     /** A growing bounding box. */

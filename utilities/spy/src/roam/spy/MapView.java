@@ -137,7 +137,7 @@ final class MapView extends JPanel {
             }
             rows.revalidate();
         }
-        final boolean truthOnBus = s.truthPath != null;
+        final boolean truthOnBus = s.truthPath != null || !s.robots.isEmpty();
         for (int i = 0; i < rowList.size(); ++i) rowList.get(i).update(s.tracks.get(i), truthOnBus);
     }
 
