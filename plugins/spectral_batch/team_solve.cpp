@@ -234,9 +234,9 @@ std::unique_ptr<ceres::Problem> buildProblem(const TeamInput& input, const TeamS
   }
   // The range calibration of each kind of range (between robots, to beacons): scale and offset,
   // with the shared priors, or held at (1, 0).
-  const auto addCalibration = [&](std::array<double, 2>* calibration) {
+  const auto addCalibration = [&](std::array<double, 2>* calibration, bool estimate) {
     problem->AddParameterBlock(calibration->data(), 2);
-    if (!options.estimate_range_calibration) {
+    if (!estimate) {
       problem->SetParameterBlockConstant(calibration->data());
       return;
     }
@@ -246,8 +246,9 @@ std::unique_ptr<ceres::Problem> buildProblem(const TeamInput& input, const TeamS
       problem->AddResidualBlock(CalibrationPrior::create(1, 0.0, options.range_offset_prior_sigma_m), nullptr,
                                 calibration->data());
   };
-  if (!robot_ranges.empty()) addCalibration(&(*range_calibration)[kRobotRanges]);
-  if (!beacon_observations.empty()) addCalibration(&(*range_calibration)[kBeaconRanges]);
+  if (!robot_ranges.empty())
+    addCalibration(&(*range_calibration)[kRobotRanges], options.estimate_range_calibration && options.estimate_robot_range_calibration);
+  if (!beacon_observations.empty()) addCalibration(&(*range_calibration)[kBeaconRanges], options.estimate_range_calibration);
   for (const RobotRangeObservation& o : robot_ranges) {
     auto& path_i = (*poses)[o.robot_i];
     auto& path_j = (*poses)[o.robot_j];
