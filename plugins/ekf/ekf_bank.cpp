@@ -39,6 +39,12 @@ double EkfBank::score(const Model& model) const {
   return model.filter->predictiveLogLikelihood() - (model.bias_always ? twin_penalty_nats_ : 0.0);
 }
 
+void EkfBank::setTeam(const std::vector<std::string>& robots) {
+  models_.resize(1);  // the first model: factor 1, the bias rule as configured
+  best_ = 0;
+  toEveryModel([&](EkfSlam& filter) { filter.setTeam(robots); });
+}
+
 void EkfBank::setInitialPose(const Pose& start) {
   toEveryModel([&](EkfSlam& filter) { filter.setInitialPose(start); });
 }

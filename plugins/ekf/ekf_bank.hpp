@@ -49,6 +49,9 @@ class EkfBank : public Estimator {
  public:
   explicit EkfBank(const EkfConfig& config);
 
+  // A team run: the configured model alone, as the team filter (EkfSlam::setTeam); no bank.
+  void setTeam(const std::vector<std::string>& robots) override;
+
   void setInitialPose(const Pose& start) override;
   void setBeacons(const Map& surveyed) override;
   void addOdometry(const Odometry& odometry) override;

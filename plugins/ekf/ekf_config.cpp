@@ -68,6 +68,19 @@ void addEkfOptions(Options& o, EkfConfig* c) {
             "init_max_ranges >= init_min_ranges");
 }
 
+estimation::MotionNoise configuredMotionNoise(const EkfConfig& config, const Odometry& odo) {
+  const double d_m = std::hypot(odo.forward_m, odo.lateral_m);
+  estimation::MotionNoise noise;
+  noise.distance_fraction = 0.0;
+  noise.heading_rad_per_m = 0.0;
+  noise.heading_rad_per_sqrt_s = 0.0;
+  noise.min_sigma_m = std::sqrt(std::pow(config.odo_distance_sigma_rel * d_m, 2) + std::pow(config.odo_distance_sigma_m, 2));
+  noise.min_sigma_rad = std::sqrt(estimation::wheelHeadingVariance_rad2(
+      d_m, odo.delta_heading_rad, {config.odo_heading_sigma_rel, config.odo_heading_sigma_per_sqrt_m, config.odo_heading_sigma_rad}));
+  noise.use_reported_covariance = true;
+  return noise;
+}
+
 double chiSquareQuantile(int dof, double probability) {
   if (probability >= 1.0) return std::numeric_limits<double>::infinity();
   if (dof == 2) return -2.0 * std::log1p(-probability);  // CDF 1 - exp(-x/2)

@@ -1,6 +1,7 @@
 // Configuration of the ekf plugin, with the reasoning behind each default (see README.md).
 #pragma once
 
+#include "roam/estimation/motion_model.hpp"
 #include "roam/options.hpp"
 
 namespace roam {
@@ -154,6 +155,12 @@ struct EkfConfig {
 // Registers every key of the [estimator.*] section with its checks (the shim calls parse();
 // EkfSlam runs the same checks on a struct with checkConfig): the only validator.
 void addEkfOptions(Options& options, EkfConfig* config);
+
+// The configured noise of one odometry step as the floor of estimation::incrementCovariance:
+// sigma_d (forward and lateral) from odo_distance_sigma_rel and _m, sigma_theta from the
+// odo_heading_* keys (variances add), used as the per-step minimum; a reported covariance is used
+// where it is larger. The one-robot filter and the team filter (ekf_team.hpp) both step with it.
+estimation::MotionNoise configuredMotionNoise(const EkfConfig& config, const Odometry& odometry);
 
 // Chi-square quantile for dof = 1 or 2 at the given probability (infinity for probability 1).
 double chiSquareQuantile(int dof, double probability);

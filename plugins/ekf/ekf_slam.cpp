@@ -87,7 +87,33 @@ EkfFilter::CalibrationPrior EkfSlam::calibrationPrior() const {
   return prior;
 }
 
+void EkfSlam::setTeam(const std::vector<std::string>& robots) {
+  team_ = std::make_unique<EkfTeam>(config_, robots);
+  if (config_.anchor == EkfConfig::Anchor::kBeacons && config_.translation_noise_models > 1)
+    note("in a team run the team filter steps with the configured odometry noise: no bank of "
+         "translation-noise models (translation_noise_models)");
+  setState(EstimatorState::kTracking);
+}
+
+void EkfSlam::publishTeam() {
+  for (const Pose& pose : team_->takePoses()) emitPose(pose);
+  const EkfTeam::Counts& c = team_->counts();
+  setDiagnostic("robot_ranges_used", static_cast<double>(c.robot_ranges_used));
+  setDiagnostic("robot_ranges_gated", static_cast<double>(c.robot_ranges_gated));
+  setDiagnostic("robot_ranges_downweighted", static_cast<double>(c.robot_ranges_downweighted));
+  setDiagnostic("beacon_ranges_used", static_cast<double>(c.beacon_ranges_used));
+  setDiagnostic("beacon_ranges_gated", static_cast<double>(c.beacon_ranges_gated));
+  setDiagnostic("beacon_ranges_downweighted", static_cast<double>(c.beacon_ranges_downweighted));
+  setDiagnostic("bearings_used", static_cast<double>(c.bearings_used));
+  setDiagnostic("ranges_set_aside", static_cast<double>(c.set_aside_unsurveyed + c.set_aside_late +
+                                                        c.set_aside_unstarted + c.set_aside_after_end));
+}
+
 void EkfSlam::setInitialPose(const Pose& start_pose) {
+  if (team_) {
+    if (const std::string problem = team_->setInitialPose(start_pose); !problem.empty()) rejectInput("initial pose", problem);
+    return publishTeam();
+  }
   if (started_) return;  // the start is fixed once filtering has begun
   start(start_pose);
   emitPose(path_.back());
@@ -96,6 +122,7 @@ void EkfSlam::setInitialPose(const Pose& start_pose) {
 }
 
 void EkfSlam::setBeacons(const Map& surveyed) {
+  if (team_) return team_->setBeacons(surveyed);
   if (config_.anchor != EkfConfig::Anchor::kBeacons) return;  // start_pose: surveyed positions are not used
   surveyed_ = surveyed;
   if (started_) insertSurveyed();
@@ -117,6 +144,11 @@ void EkfSlam::insertSurveyed() {
 }
 
 void EkfSlam::addOdometry(const Odometry& odometry) {
+  if (team_) {
+    const std::string problem = team_->addOdometry(odometry);
+    problem.empty() ? acceptOdometry() : rejectOdometry(problem);
+    return publishTeam();
+  }
   if (!started_) {
     Pose origin;  // no INITIAL_POSE: start at the origin at this step's time
     origin.utime = odometry.utime;
@@ -148,6 +180,11 @@ void EkfSlam::addOdometry(const Odometry& odometry) {
 }
 
 void EkfSlam::addRange(const Range& range) {
+  if (team_) {
+    const std::string problem = team_->addRange(range);
+    problem.empty() ? acceptRange() : rejectRange(problem);
+    return publishTeam();
+  }
   if (!(range.range_m > 0.0)) return rejectRange("range not positive");
   checkBiasObservable(range.utime);
   max_range_m_ = std::max(max_range_m_, range.range_m);
@@ -301,21 +338,7 @@ Eigen::Matrix3d EkfSlam::scaledMotionNoise(const Eigen::Matrix3d& Q) const {
 }
 
 estimation::MotionNoise EkfSlam::motionNoise(const Odometry& odo) const {
-  // The configured noise of this step as the floor of estimation::incrementCovariance:
-  // sigma_d (forward and lateral) and sigma_theta from the keys (variances add), used as the
-  // per-step minimum; a reported covariance is used where it is larger.
-  const double d_m = std::hypot(odo.forward_m, odo.lateral_m);
-  estimation::MotionNoise noise;
-  noise.distance_fraction = 0.0;
-  noise.heading_rad_per_m = 0.0;
-  noise.heading_rad_per_sqrt_s = 0.0;
-  noise.min_sigma_m = std::sqrt(std::pow(config_.odo_distance_sigma_rel * d_m, 2) +
-                                std::pow(config_.odo_distance_sigma_m, 2));
-  noise.min_sigma_rad = std::sqrt(estimation::wheelHeadingVariance_rad2(
-      d_m, odo.delta_heading_rad,
-      {config_.odo_heading_sigma_rel, config_.odo_heading_sigma_per_sqrt_m, config_.odo_heading_sigma_rad}));
-  noise.use_reported_covariance = true;
-  return noise;
+  return configuredMotionNoise(config_, odo);  // ekf_config.hpp
 }
 
 bool EkfSlam::confirmStandstill(const Odometry& odo, double dt_s) {
@@ -539,6 +562,12 @@ void EkfSlam::publishDiagnostics() {
 }
 
 void EkfSlam::finish() {
+  if (team_) {
+    team_->finish();
+    publishTeam();
+    for (const std::string& text : team_->notes()) note(text);
+    return setState(EstimatorState::kFinished);
+  }
   if (config_.anchor == EkfConfig::Anchor::kBeacons && surveyed_.empty()) noteNoSurvey();
   // A widening still on trial is decided on the ranges scored so far; after that a starvation
   // run widens at once (the ranges below are in no step a re-run could repeat).
@@ -573,6 +602,10 @@ void EkfSlam::finish() {
 }
 
 bool EkfSlam::trajectory(bool /*force*/, Path* path) {
+  if (team_) {
+    *path = team_->paths();
+    return !path->empty();
+  }
   if (path_.empty()) return false;
   if (!config_.smooth_trajectory) {
     *path = path_;

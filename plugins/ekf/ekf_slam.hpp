@@ -42,12 +42,15 @@
 #include <cstdint>
 #include <deque>
 #include <map>
+#include <memory>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "ekf_config.hpp"
 #include "ekf_filter.hpp"
 #include "ekf_joint_bias.hpp"
+#include "ekf_team.hpp"
 #include "roam/estimation/bias_observability.hpp"
 #include "roam/estimation/motion_model.hpp"
 #include "roam/estimation/multilateration.hpp"
@@ -70,6 +73,9 @@ class EkfSlam : public Estimator {
  public:
   explicit EkfSlam(const EkfConfig& config);
 
+  // A team run: every later input goes to the centralised team filter (ekf_team.hpp), which this
+  // one-robot filter's machinery never sees.
+  void setTeam(const std::vector<std::string>& robots) override;
   void setInitialPose(const Pose& start) override;
   void setBeacons(const Map& surveyed) override;
   void addOdometry(const Odometry& odometry) override;
@@ -78,6 +84,7 @@ class EkfSlam : public Estimator {
   bool trajectory(bool force, Path* path) override;
 
   bool started() const { return started_; }
+  const EkfTeam* team() const { return team_.get(); }
   // The sparse-rate rule on the heading-rate bias (gyro_bias_max_drift_rad): still to decide (the
   // first 20 ranges), or decided to hold it at 0.
   bool headingRateBiasUndecided() const { return bias_undecided_; }
@@ -241,6 +248,9 @@ class EkfSlam : public Estimator {
   JointBiasResult jointHeadingBias() const;
 
   EkfConfig config_;
+  std::unique_ptr<EkfTeam> team_;  // a team run (setTeam); null for one robot
+  // A team run: the team filter's poses, counts and notes passed on.
+  void publishTeam();
   MultilaterationConfig init_config_;
   double gate_range_chi2_ = 0.0;          // 1 dof
   double gate_range_bearing_chi2_ = 0.0;  // 2 dof

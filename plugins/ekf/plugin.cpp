@@ -1,4 +1,5 @@
-// ABI shim: the EKF SLAM core as plugin "ekf".
+// ABI shim: the EKF SLAM core as plugin "ekf"; in a team run ([team] robots = ...) one instance
+// runs the centralised team filter (ekf_team.hpp).
 #include "ekf_bank.hpp"
 #include "ekf_config.hpp"
 #include "ekf_slam.hpp"
@@ -18,4 +19,4 @@ std::unique_ptr<roam::Estimator> makeEkf(roam::Options& options) {
 
 }  // namespace
 
-ROAM_DEFINE_PLUGIN("ekf", "Cartesian range-only EKF SLAM with delayed beacon initialisation", makeEkf)
+ROAM_DEFINE_TEAM_PLUGIN("ekf", "Cartesian range-only EKF SLAM with delayed beacon initialisation", makeEkf)
