@@ -677,6 +677,7 @@ void SpectralBatchSlam::finishTeam() {
   setDiagnostic("noise_odometry_heading", summary.noise.odometry_heading);
   setDiagnostic("noise_robot_range", summary.noise.robot_range);
   setDiagnostic("noise_beacon", summary.noise.beacon);
+  setDiagnostic("noise_bearing", summary.noise.bearing);
   for (const std::string& text : team_->notes()) note(text);
   emitMap(team_->result().beacons);
   setState(summary.usable ? EstimatorState::kFinished : EstimatorState::kFailed);

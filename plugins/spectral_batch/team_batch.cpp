@@ -1,5 +1,6 @@
 #include "team_batch.hpp"
 
+#include "batch_problem.hpp"
 #include "roam/estimation/motion_model.hpp"
 
 namespace roam {
@@ -44,6 +45,10 @@ void TeamBatch::finish() {
   options.range_sigma_m = config_.range_sigma_m;
   options.estimate_odometry_calibration = config_.estimate_odometry_calibration;
   options.distance_scale_prior_sigma = config_.distance_scale_sigma;
+  const SpectralBatchConfig config = config_;
+  options.increment_covariance = [config](const Odometry& odometry, double dt_s) {
+    return odometryCovariance(config, odometry, dt_s);
+  };
   result_ = solveTeam(input_, options);
 }
 

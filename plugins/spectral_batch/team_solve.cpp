@@ -210,7 +210,10 @@ std::unique_ptr<ceres::Problem> buildProblem(const TeamInput& input, const TeamS
       const Odometry& o = odometry[k];
       // Whitening: Sigma^-1 = L L^T with L = chol(Sigma^-1); the residual is L^T e. L^T is upper
       // triangular: its heading row holds the heading alone.
-      const Eigen::Matrix3d information = estimation::incrementCovariance(o, dt_s[r][k], options.motion_noise).inverse();
+      const Eigen::Matrix3d information =
+          (options.increment_covariance ? options.increment_covariance(o, dt_s[r][k])
+                                        : estimation::incrementCovariance(o, dt_s[r][k], options.motion_noise))
+              .inverse();
       Eigen::Matrix3d sqrt_information = Eigen::LLT<Eigen::Matrix3d>(information).matrixU();
       sqrt_information.topRows<2>() /= factors.odometry_translation;
       sqrt_information.row(2) /= factors.odometry_heading;
@@ -266,7 +269,8 @@ std::unique_ptr<ceres::Problem> buildProblem(const TeamInput& input, const TeamS
         path[o.at.step + 1].data(), beacon, (*range_calibration)[kBeaconRanges].data()));
     if (o.has_bearing)
       blocks->bearings.push_back(problem->AddResidualBlock(
-          BearingResidual::create(o.bearing_rad, sigma_m / std::max(o.range_m, sigma_m), o.at.alpha), loss,
+          BearingResidual::create(o.bearing_rad, factors.bearing * o.sigma_m / std::max(o.range_m, o.sigma_m), o.at.alpha),
+          loss,
           path[o.at.step].data(), path[o.at.step + 1].data(), beacon));
     if (beacon_surveyed[static_cast<size_t>(o.beacon)]) problem->SetParameterBlockConstant(beacon);
   }
@@ -467,7 +471,7 @@ TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options) {
     summary.noise = factors;
     std::ostringstream line;
     line << "factors odometry " << factors.odometry_translation << " / heading " << factors.odometry_heading
-         << ", robot range " << factors.robot_range << ", beacon " << factors.beacon << ": " << solve.BriefReport();
+         << ", robot range " << factors.robot_range << ", beacon " << factors.beacon << ", bearing " << factors.bearing << ": " << solve.BriefReport();
     summary.report += line.str() + "\n";
     summary.robot_ranges_used = static_cast<int>(blocks.robot_ranges.size());
     summary.beacon_ranges_used = static_cast<int>(blocks.beacon_ranges.size());
@@ -480,8 +484,8 @@ TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options) {
     // Variance components: each group's factor times sqrt(squares / redundancy).
     RedundancyGroups groups;
     groups.block_sets = {blocks.odometry, blocks.robot_ranges, blocks.beacon_ranges, blocks.bearings};
-    groups.group_of_row = {{0, 0, 1}, {2}, {3}, {3}};
-    groups.num_groups = 4;
+    groups.group_of_row = {{0, 0, 1}, {2}, {3}, {4}};
+    groups.num_groups = 5;
     const Redundancy redundancy = redundancyNumbers(*problem, groups);
     if (!redundancy.ok) {
       result.notes.push_back("noise factors not learned: the redundancy numbers failed");
@@ -496,6 +500,7 @@ TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options) {
     factors.odometry_heading = scaled(factors.odometry_heading, 1);
     factors.robot_range = scaled(factors.robot_range, 2);
     factors.beacon = scaled(factors.beacon, 3);
+    factors.bearing = scaled(factors.bearing, 4);
   }
 
   for (int r = 0; r < num_robots; ++r) {

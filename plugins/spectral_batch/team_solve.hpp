@@ -29,7 +29,9 @@
 // Gauge: every robot's start pose held constant (anchor = start poses).
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -55,6 +57,9 @@ struct TeamInput {
 struct TeamSolveOptions {
   // The odometry noise where a message states none, and the floor of a stated one.
   estimation::MotionNoise motion_noise;
+  // If set, each step's increment covariance instead (the plugin gives the one-robot batch's own,
+  // batch_problem.hpp odometryCovariance, so both solves read odometry alike).
+  std::function<Eigen::Matrix3d(const Odometry&, double dt_s)> increment_covariance;
   double range_sigma_m = 0.1;  // where a range states none (sigma_m <= 0)
   bool estimate_odometry_calibration = true;
   // Calibration priors (<= 0: none). The bias prior is the shared one (calibration_priors.hpp);
@@ -88,7 +93,8 @@ struct TeamNoiseFactors {
   double odometry_translation = 1.0;
   double odometry_heading = 1.0;
   double robot_range = 1.0;
-  double beacon = 1.0;  // beacon ranges and bearings
+  double beacon = 1.0;   // ranges to beacons
+  double bearing = 1.0;  // bearings to beacons (a sighting's line-of-sight sigma across its range)
 };
 
 struct TeamSummary {
