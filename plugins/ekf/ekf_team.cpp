@@ -53,7 +53,8 @@ std::string EkfTeam::setInitialPose(const Pose& start) {
 }
 
 void EkfTeam::setBeacons(const Map& surveyed) {
-  if (config_.anchor != EkfConfig::Anchor::kBeacons) return;  // start_pose: surveyed positions are not used
+  // Every robot's start and the survey share the team's world frame (INITIAL_POSE_<robot>, BEACONS),
+  // so the survey is used whichever the anchor, as the team solve uses it.
   for (const Beacon& beacon : surveyed) surveyed_[beacon.id] = beacon;
 }
 
@@ -326,11 +327,7 @@ std::vector<std::string> EkfTeam::notes() const {
   const auto say = [&](int64_t count, const std::string& text) {
     if (count > 0) out.push_back(std::to_string(count) + " " + text);
   };
-  say(counts_.set_aside_unsurveyed,
-      config_.anchor == EkfConfig::Anchor::kBeacons
-          ? "ranges to beacons not in BEACONS set aside: the team filter places no beacon (anchor)"
-          : "ranges to beacons set aside: with anchor = start_pose the team filter uses the ranges between "
-            "robots only; anchor = beacons holds the surveyed beacons (BEACONS) as known");
+  say(counts_.set_aside_unsurveyed, "ranges to beacons not in BEACONS set aside: the team filter places no beacon");
   say(counts_.set_aside_late, "ranges older than their robot's filtered pose set aside (they came after later odometry)");
   say(counts_.set_aside_unstarted, "ranges of a robot with no start pose (INITIAL_POSE_<robot>) set aside");
   say(counts_.set_aside_after_end, "ranges after their robot's last odometry set aside");

@@ -11,7 +11,8 @@
 //    (odo_distance_sigma_rel/_m, odo_heading_sigma_*; a reported covariance where larger). Only
 //    robot k's block P_kk = F P_kk F' + G Q G' and its cross-covariances P_kj = F P_kj change.
 //  - Update, a range z between robots i and j at time t: h = |p_i - p_j|, sigma = max(the range's
-//    sigma, range_sigma_m). A range to a surveyed beacon m (anchor = beacons; BEACONS, held as known,
+//    sigma, range_sigma_m). A range to a surveyed beacon m (BEACONS, whichever the anchor: the starts
+//    and the survey share the team's world frame; held as known,
 //    not in the state): h = |m - p_i|, its survey sigma (beacon_sigma_m) added to the range's
 //    variance; with a bearing, also h_b = atan2(m - p_i) - theta_i (bearing_sigma_rad, plus the
 //    survey's beacon_sigma_m / range across the line of sight).
@@ -27,8 +28,8 @@
 //    pose the path reports at t1. Ranges are applied in time order across the team. A robot's
 //    predict changes no other robot's pose, so the mixed times of the robots in the state are
 //    exact for a linear model (predict and update on disjoint blocks commute).
-//  - Set aside (counted, with a note): ranges to beacons not surveyed (anchor = start_pose: every
-//    beacon range; the team filter places no beacon), ranges older than a robot's filtered time,
+//  - Set aside (counted, with a note): ranges to beacons not surveyed (the team filter places no
+//    beacon), ranges older than a robot's filtered time,
 //    ranges involving a robot with no start pose, ranges after a robot's last odometry (at finish).
 //
 // Output: a pose per odometry step (robot set, covariance its 3x3 block); the filtered paths.
