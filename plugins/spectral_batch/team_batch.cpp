@@ -45,8 +45,6 @@ void TeamBatch::finish() {
   options.range_sigma_m = config_.range_sigma_m;
   options.estimate_odometry_calibration = config_.estimate_odometry_calibration;
   options.distance_scale_prior_sigma = config_.distance_scale_sigma;
-  options.heading_rate_bias_prior_sigma_rad_s = config_.heading_rate_bias_sigma_rad_s;
-  options.bias_max_drift_rad = config_.heading_rate_bias_max_drift_rad;
   const SpectralBatchConfig config = config_;
   options.increment_covariance = [config](const Odometry& odometry, double dt_s) {
     return odometryCovariance(config, odometry, dt_s);

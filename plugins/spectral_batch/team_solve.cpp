@@ -13,7 +13,6 @@
 
 #include "batch_redundancy.hpp"
 #include "batch_residuals.hpp"
-#include "roam/estimation/bias_observability.hpp"
 #include "roam/estimation/multilateration.hpp"
 
 namespace roam {
@@ -195,8 +194,7 @@ std::unique_ptr<ceres::Problem> buildProblem(const TeamInput& input, const TeamS
                                              std::vector<std::array<double, 2>>* calibration,
                                              std::vector<std::array<double, 2>>* beacons,
                                              const std::vector<bool>& beacon_surveyed,
-                                             std::array<std::array<double, 2>, 2>* range_calibration,
-                                             const std::vector<bool>& calibrated, Blocks* blocks) {
+                                             std::array<std::array<double, 2>, 2>* range_calibration, Blocks* blocks) {
   ceres::Problem::Options problem_options;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   auto problem = std::make_unique<ceres::Problem>(problem_options);
@@ -224,7 +222,7 @@ std::unique_ptr<ceres::Problem> buildProblem(const TeamInput& input, const TeamS
                                    sqrt_information),
           nullptr, path[k].data(), path[k + 1].data(), odometry_calibration));
     }
-    if (!calibrated[r]) {
+    if (!options.estimate_odometry_calibration) {
       problem->SetParameterBlockConstant(odometry_calibration);
     } else {
       const bool scale_prior = options.distance_scale_prior_sigma > 0.0;
@@ -452,29 +450,6 @@ TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options) {
   std::string error;
   if (!solver_options.IsValid(&error)) fail("Ceres options: " + error);
 
-  // Whose odometry calibration the ranges to beacons see (the estimators' one rule).
-  std::vector<bool> calibrated(static_cast<size_t>(num_robots), options.estimate_odometry_calibration);
-  for (int r = 0; r < num_robots && options.estimate_odometry_calibration; ++r) {
-    estimation::BiasObservability observability(options.heading_rate_bias_prior_sigma_rad_s, options.bias_max_drift_rad);
-    int seen = 0;
-    for (const Range& range : input.robots[static_cast<size_t>(r)].beacon_ranges) {
-      if (!options.use_beacon_ranges || !beacon_index.count(range.beacon_id)) continue;
-      observability.addRange(range.utime);
-      ++seen;
-    }
-    if (options.bias_max_drift_rad <= 0.0) continue;
-    if (seen == 0) {
-      calibrated[static_cast<size_t>(r)] = false;
-      result.notes.push_back("robot " + std::to_string(r) +
-                             ": odometry calibration held at (1, 0): no range to a beacon fixes its position (ranges "
-                             "between robots fix the team's shape only)");
-    } else if (observability.decision() != estimation::BiasObservability::Decision::kEstimate &&
-               !observability.denseSoFar()) {
-      calibrated[static_cast<size_t>(r)] = false;
-      result.notes.push_back("robot " + std::to_string(r) + ": odometry calibration held at (1, 0): " +
-                             observability.heldNote("heading_rate_bias_max_drift_rad"));
-    }
-  }
   ceres::HuberLoss loss(options.huber_scale);
   std::array<std::array<double, 2>, 2> range_calibration{{{1.0, 0.0}, {1.0, 0.0}}};
   TeamNoiseFactors factors;
@@ -483,7 +458,7 @@ TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options) {
     Blocks blocks;
     std::unique_ptr<ceres::Problem> problem =
         buildProblem(input, options, dt_s, robot_ranges, beacon_observations, factors, &loss, &poses, &calibration,
-                     &beacons, beacon_surveyed, &range_calibration, calibrated, &blocks);
+                     &beacons, beacon_surveyed, &range_calibration, &blocks);
     ceres::Solver::Summary solve;
     ceres::Solve(solver_options, problem.get(), &solve);
     if (round == 0) summary.initial_cost = solve.initial_cost;

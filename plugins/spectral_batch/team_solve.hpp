@@ -62,13 +62,6 @@ struct TeamSolveOptions {
   std::function<Eigen::Matrix3d(const Odometry&, double dt_s)> increment_covariance;
   double range_sigma_m = 0.1;  // where a range states none (sigma_m <= 0)
   bool estimate_odometry_calibration = true;
-  // Each robot's odometry calibration is estimated only where its ranges to beacons see it, by
-  // the estimators' one rule (estimation/bias_observability.hpp: the heading drift the bias prior
-  // allows between position fixes, at most this); otherwise held at (1, 0) with a note. Ranges
-  // between robots fix no robot's position, only the team's shape: from them alone a robot's
-  // calibration fits noise (a synthetic 3-robot team with no beacon: 2.21, 1.13, 1.05 m estimated,
-  // 1.09, 0.93, 0.20 held, on seeds 1-3). <= 0: always estimate.
-  double bias_max_drift_rad = 0.08;
   // Calibration priors (<= 0: none). The bias prior is the shared one (calibration_priors.hpp);
   // the distance scale's is spectral_batch's default (batch_config.hpp distance_scale_sigma).
   double distance_scale_prior_sigma = 0.05;
