@@ -186,7 +186,10 @@ roam_handle create(Factory factory, const roam_kv* config, int32_t num_config,
     self->effective = options.effective();
     for (const auto& [key, value] : self->effective) {
       self->effective_view.push_back(roam_kv{key.c_str(), value.c_str()});
-      if (key == "anchor") self->self_check.anchor(value);
+      if (key == "anchor") {
+        self->self_check.anchor(value);
+        self->team_self_check.anchor(value);
+      }
     }
     return self.release();
   } catch (const ConfigError& config_error) {
@@ -220,6 +223,7 @@ int setInitialPose(roam_handle h, const roam_pose* pose) {
     }
     self.estimator->setInitialPose(fromC(*pose));
     if (self.team.empty()) self.self_check.startPose(fromC(*pose));
+    else self.team_self_check.startPose(fromC(*pose));
   });
 }
 
@@ -235,6 +239,7 @@ int setBeacons(roam_handle h, const roam_beacon* beacons, int32_t num_beacons) {
     }
     self.estimator->setBeacons(map);
     self.self_check.surveyed(map);
+    self.team_self_check.surveyed(map);
   });
 }
 
@@ -254,7 +259,9 @@ int addOdometry(roam_handle h, const roam_odometry* odometry) {
     const Odometry step = fromC(*odometry);
     const int64_t accepted_before = self.estimator->odometryAccepted();
     self.estimator->addOdometry(step);
-    if (self.team.empty()) self.self_check.odometry(step, self.estimator->odometryAccepted() > accepted_before);
+    const bool accepted = self.estimator->odometryAccepted() > accepted_before;
+    if (self.team.empty()) self.self_check.odometry(step, accepted);
+    else self.team_self_check.odometry(step, accepted);
   });
 }
 
@@ -274,8 +281,10 @@ int addRange(roam_handle h, const roam_range* range) {
       return;
     }
     const Range accepted = fromC(*range);
+    const int64_t rejected_before = self.estimator->rangesRejected();
     self.estimator->addRange(accepted);
     if (self.team.empty()) self.self_check.range(accepted);
+    else self.team_self_check.range(accepted, self.estimator->rangesRejected() > rejected_before);
   });
 }
 
@@ -283,6 +292,7 @@ int finish(roam_handle h) {
   return guarded(h, [&](Instance& self) {
     self.estimator->finish();
     if (self.team.empty()) self.self_check.finished();
+    else self.team_self_check.finished();
   });
 }
 
@@ -310,6 +320,7 @@ int pollTrajectory(roam_handle h, int32_t force, int32_t* available, const roam_
     Path path;
     *available = self.estimator->trajectory(force != 0, &path) ? 1 : 0;
     if (*available && self.team.empty()) self.self_check.apply(*self.estimator, &path);
+    if (*available && !self.team.empty()) self.team_self_check.apply(*self.estimator, &path);
     self.path = toC(path);
     *poses = self.path.data();
     *num_poses = static_cast<int32_t>(self.path.size());
@@ -341,7 +352,7 @@ int getStatus(roam_handle h, roam_status* status) {
       self.diagnostic_keys.push_back(SelfCheck::kNote);
       self.diagnostic_values.push_back(1.0);
     }
-    for (const auto& [key, value] : self.self_check.diagnostics()) {
+    for (const auto& [key, value] : self.team.empty() ? self.self_check.diagnostics() : self.team_self_check.diagnostics()) {
       self.diagnostic_keys.push_back(key);
       self.diagnostic_values.push_back(value);
     }
@@ -361,6 +372,7 @@ int setTeam(roam_handle h, const char* const* robots, int32_t num_robots) {
     for (int32_t i = 0; i < num_robots; ++i) names.emplace_back(robots[i] != nullptr ? robots[i] : "");
     self.estimator->setTeam(names);
     self.team = names;
+    self.team_self_check.team(names);
     self.team_odometry_checks.assign(names.size(), self.odometry_check);
   });
 }

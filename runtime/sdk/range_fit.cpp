@@ -266,6 +266,31 @@ void fitTogether(const std::map<int, std::vector<Observation>>& by_beacon, const
 
 }  // namespace
 
+namespace {
+
+// Each range's |residual| under calibration `c`, the beacons where `beacons` puts them.
+RangeFit scored(const std::map<int, std::vector<Observation>>& by_beacon, const std::map<int, Point>& beacons,
+                const Calibration& c, size_t num_ranges) {
+  RangeFit fit;
+  double total = 0.0;
+  fit.residuals_m.assign(num_ranges, 0.0);
+  for (const auto& [id, obs] : by_beacon) {
+    const Point& m = beacons.at(id);
+    for (const auto& o : obs) {
+      const double residual = std::abs(c.scale * distance_m(m, o.from) + c.offset_m - o.range_m);
+      fit.residuals_m[o.index] = residual;
+      total += residual;
+    }
+    fit.ranges += static_cast<int64_t>(obs.size());
+  }
+  if (fit.ranges > 0) fit.mean_abs_residual_m = total / static_cast<double>(fit.ranges);
+  fit.scale = c.scale;
+  fit.offset_m = c.offset_m;
+  return fit;
+}
+
+}  // namespace
+
 RangeFit rangeFit(const Path& path, const std::vector<RangeRecord>& ranges, const Map& surveyed,
                   bool fit_calibration) {
   RangeFit fit;
@@ -295,21 +320,27 @@ RangeFit rangeFit(const Path& path, const std::vector<RangeRecord>& ranges, cons
     }
   }
   if (fit_calibration) fitTogether(by_beacon, free, &beacons, &c);
-  double total = 0.0;
-  fit.residuals_m.assign(ranges.size(), 0.0);
-  for (const auto& [id, obs] : by_beacon) {
-    const Point& m = beacons.at(id);
-    for (const auto& o : obs) {
-      const double residual = std::abs(c.scale * distance_m(m, o.from) + c.offset_m - o.range_m);
-      fit.residuals_m[o.index] = residual;
-      total += residual;
-    }
-    fit.ranges += static_cast<int64_t>(obs.size());
+  return scored(by_beacon, beacons, c, ranges.size());
+}
+
+RangeFit robotRangeFit(const std::vector<Path>& paths, const std::vector<RobotRangeRecord>& ranges,
+                       bool fit_calibration) {
+  // Each range its own "beacon", held (never free) where the other robot is at its time.
+  std::map<int, std::vector<Observation>> by_beacon;
+  std::map<int, Point> beacons;
+  for (size_t k = 0; k < ranges.size(); ++k) {
+    const RobotRangeRecord& r = ranges[k];
+    const Path& from = paths.at(static_cast<size_t>(r.robot));
+    const Path& to = paths.at(static_cast<size_t>(r.other_robot));
+    if (from.empty() || to.empty()) continue;
+    const int id = static_cast<int>(k);
+    by_beacon[id].push_back({k, positionAt(from, r.utime), r.range_m});
+    beacons[id] = positionAt(to, r.utime);
   }
-  fit.mean_abs_residual_m = total / static_cast<double>(fit.ranges);
-  fit.scale = c.scale;
-  fit.offset_m = c.offset_m;
-  return fit;
+  Calibration c;
+  if (by_beacon.empty()) return RangeFit{};
+  if (fit_calibration) fitTogether(by_beacon, {}, &beacons, &c);
+  return scored(by_beacon, beacons, c, ranges.size());
 }
 
 }  // namespace roam

@@ -62,11 +62,12 @@ struct Instance {
   std::unique_ptr<Estimator> estimator;
   double max_range_m = kDefaultMaxRange_m;  // the SDK's own option
   OdometryCheck odometry_check;             // holds the SDK's max_speed_mps option
-  // A team (set_team): each robot's own odometry check (its clock is its own); the self-check,
-  // which judges one robot's path against its dead reckoning, is not applied.
+  // A team (set_team): each robot's own odometry check (its clock is its own), and the team's
+  // self-check in place of the one-robot one.
   std::vector<std::string> team;
   std::vector<OdometryCheck> team_odometry_checks;
   SelfCheck self_check;                     // the SDK's rule on what is published (self_check.hpp)
+  TeamSelfCheck team_self_check;            // the same rule on a team's answer
   std::string last_error;
   KeyValues effective;
   std::vector<roam_kv> effective_view;

@@ -15,6 +15,12 @@
 // 2-D point exactly from any path); ranges outside the path's time span are not counted. Bearings
 // are not scored.
 //
+// Ranges between robots (robotRangeFit): a range r_k from robot a to robot b at t_k is
+// scale |p_b(t_k) - p_a(t_k)| + offset + e_k, both positions interpolated as above: the other
+// robot is a beacon held where its path puts it at that time. The same scale and offset, fitted
+// within the same priors (a radio on each robot is the same kind of radio), the same Laplace
+// residuals and score.
+//
 // This is a scorer, not a beacon initialisation: both paths compared get the same freedom, and it
 // is in the SDK because the SDK needs no maths library; the estimators' one initialisation is
 // roam/estimation's multilaterate().
@@ -49,5 +55,19 @@ std::vector<RangeRecord> rangesToScore(const std::vector<RangeRecord>& ranges, i
 // `fit_calibration`, else held at 1 and 0.
 RangeFit rangeFit(const Path& path, const std::vector<RangeRecord>& ranges, const Map& surveyed = {},
                   bool fit_calibration = false);
+
+// A range between two robots of a team: taken by `robot` to `other_robot` (indices of the team).
+struct RobotRangeRecord {
+  int64_t utime = 0;
+  int robot = 0;
+  int other_robot = 0;
+  double range_m = 0.0;
+};
+
+// The fit of a team's `paths` (indexed by robot, each ordered by time) to ranges between its
+// robots (each within both robots' time spans); the range scale and offset fitted if
+// `fit_calibration`, else held at 1 and 0.
+RangeFit robotRangeFit(const std::vector<Path>& paths, const std::vector<RobotRangeRecord>& ranges,
+                       bool fit_calibration = false);
 
 }  // namespace roam

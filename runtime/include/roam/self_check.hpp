@@ -22,6 +22,30 @@
 // Ranges outside either path's time span, and those of a beacon ranged fewer than three times
 // within it, are not counted; of more than kSelfCheckMaxRanges, every k-th is.
 //
+// A team's answer (TeamSelfCheck; a team plugin's trajectory, every robot's poses): the same rule,
+// judged per robot and between robots. Each robot's path against its own dead reckoning (its
+// start pose, the odometry steps the estimator accepted of it) on its ranges to beacons, exactly
+// as above (one SelfCheck per robot, its figures keyed "self-check (R): ..."); and the team's
+// paths against the robots' dead reckoning on the ranges between robots (robotRangeFit: both
+// robots' positions at the range's time, the range scale and offset fitted within the priors),
+// the same paired test. Decision: if any of these finds the team's paths worse beyond chance,
+// every robot's dead reckoning is published in the team's place (kTeamWorseNote, with the figures
+// that failed). The whole team, not the robots concerned: the paths are one answer, solved
+// together through the ranges between robots, so one robot's path worse than its odometry is
+// evidence against the solve that placed the others; and a mixture of dead reckoning and solved
+// paths is an answer no test scored (the ranges between a replaced and a kept robot are explained
+// by neither). The tests are several (one per robot, one between robots), so a team no better
+// than its dead reckoning is replaced somewhat more often than a robot alone would be; replacing
+// an answer no better than dead reckoning by dead reckoning costs little. A team whose paths are
+// far better than dead reckoning is not at risk: each test needs its paths worse.
+// No usable range, per robot: a robot that has neither a range to a beacon nor a range to or
+// from another robot accepted publishes its dead reckoning, exactly (kNoRangeNote names it); the
+// others are judged as above. A robot with ranges to other robots only has used ranges. A range
+// counts as accepted for its robot (and a range between robots for both) unless the estimator
+// rejected it when given it, or accepted no range at all (one that decides later, as the EKF's
+// history does, is taken at its word: the residual tests still judge its paths). A robot with no
+// start pose has no dead reckoning and is left as it is.
+//
 // Anchor observability: with anchor = beacons, the surveyed beacons fix the frame only if at
 // least three of them, not on one line, were ranged; fewer leave its rotation (one) or its
 // reflection (two, or any number on one line) free, and a note says so.
@@ -48,6 +72,9 @@ constexpr size_t kSelfCheckBatches = 20;
 constexpr size_t kSelfCheckMaxRanges = 20000;
 constexpr double kSelfCheckStandardErrors = 2.0;
 bool worseBeyondChance(const std::vector<double>& path_m, const std::vector<double>& dead_reckoning_m);
+
+// "" where `anchor` is not "beacons" or the surveyed beacons ranged fix the frame, else the note.
+std::string anchorNote(const std::string& anchor, const Map& surveyed, const std::vector<RangeRecord>& ranges);
 
 class SelfCheck {
  public:
@@ -80,6 +107,17 @@ class SelfCheck {
   // reckoning under the rule above). True if it was replaced.
   bool apply(const Estimator& estimator, Path* path);
   bool replaced() const { return replaced_; }
+
+  // One robot of a team (TeamSelfCheck): its figures keyed "self-check (NAME): ...", its verdict
+  // the team's to act on; it publishes nothing itself.
+  void member(const std::string& name) { member_ = name; }
+  // The end-of-run decision (once) on `path`, for an estimator that accepted `ranges_accepted`.
+  void decide(int64_t ranges_accepted, const Path& path);
+  bool usedNoRange() const { return no_range_; }
+  bool worse() const { return !why_.empty(); }  // worse than dead reckoning beyond chance
+  const std::string& why() const { return why_; }  // the figures that found it worse
+  bool hasDeadReckoning() const { return have_start_ && !odometry_before_start_; }
+  const Path& deadReckoning() const { return dead_reckoned_; }
   // What the check found, as STATUS diagnostics: the figures above and any note ("note: ..." -> 1).
   const std::vector<std::pair<std::string, double>>& diagnostics() const { return diagnostics_; }
 
@@ -91,13 +129,59 @@ class SelfCheck {
   bool replaced_ = false;
   bool decided_ = false;  // the end-of-run checks ran (once)
   bool use_dead_reckoning_ = false;
+  bool no_range_ = false;
+  std::string why_;
+  std::string member_;
   std::string anchor_;
   Map surveyed_;
   std::vector<RangeRecord> ranges_;
   std::vector<std::pair<std::string, double>> diagnostics_;
 
+  std::string key(const char* figure) const;
+};
+
+// The self-check of a team plugin's answer (the rule above), fed by the shim as SelfCheck is.
+class TeamSelfCheck {
+ public:
+  static constexpr const char* kTeamWorseNote = "note: self-check: the team's paths explained the ranges worse";
+  static constexpr const char* kNoRangeNote = "note: used no range (none accepted): the path published is dead reckoning";
+  static constexpr const char* kRobotPathFit = "self-check: mean |range residual| of its paths, ranges between robots (m)";
+  static constexpr const char* kRobotDeadReckoningFit =
+      "self-check: mean |range residual| of dead reckoning, ranges between robots (m)";
+  static constexpr const char* kRobotRangesScored = "self-check: ranges between robots scored";
+  // A robot's figure: "self-check: X" -> "self-check (NAME): X".
+  static std::string memberKey(const char* figure, const std::string& robot);
+  // Fewer ranges between robots than this are not scored: the scale and offset fitted with them
+  // explain two exactly from any paths.
+  static constexpr size_t kMinRobotRanges = 3;
+
+  void team(const std::vector<std::string>& robots);
+  void anchor(const std::string& value) { anchor_ = value; }
+  void surveyed(const Map& beacons);
+  void startPose(const Pose& start);  // start.robot's
+  void odometry(const Odometry& step, bool accepted);
+  // A range the SDK's checks passed; `rejected` if the estimator rejected it when given it.
+  void range(const Range& range, bool rejected);
+  void finished() { finished_ = true; }
+  // The team's path to publish (every robot's poses): under the rule above. True if any robot's
+  // poses were replaced.
+  bool apply(const Estimator& estimator, Path* path);
+  const std::vector<std::pair<std::string, double>>& diagnostics() const { return diagnostics_; }
+
+ private:
+  std::vector<std::string> robots_;
+  std::vector<SelfCheck> members_;
+  std::vector<int64_t> usable_ranges_;  // per robot
+  std::vector<RobotRangeRecord> robot_ranges_;
+  std::vector<RangeRecord> beacon_ranges_;  // every robot's, for the anchor's note
+  std::string anchor_;
+  Map surveyed_;
+  bool finished_ = false;
+  bool decided_ = false;
+  std::vector<bool> replace_;  // per robot: publish its dead reckoning
+  std::vector<std::pair<std::string, double>> diagnostics_;
+
   void decide(const Estimator& estimator, const Path& path);
-  void checkAnchor();
 };
 
 }  // namespace roam
