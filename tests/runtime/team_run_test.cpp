@@ -209,5 +209,129 @@ TEST(TeamRun, ATeamNeedsDistinctRobotNames) {
   }
 }
 
+// The SDK's self-check on a team's answer (roam/self_check.hpp, TeamSelfCheck), through roam-run.
+
+// A STATUS key starting with `prefix` whose value is 1 (a note), or "" if none.
+std::string noteStartingWith(const std::map<std::string, double>& status, const std::string& prefix) {
+  for (const auto& [key, value] : status)
+    if (key.rfind(prefix, 0) == 0 && value == 1.0) return key;
+  return "";
+}
+
+// `config` with the team plugin's section given `keys` (e.g. "heading_bias_rad = 0.01\n").
+std::string withTeamKeys(std::string config, const std::string& keys) {
+  const std::string section = "plugin = team_dr\n";
+  return config.replace(config.find(section), section.size(), section + keys);
+}
+
+// Every robot's TRAJECTORY_TEAM_<R> is TRAJECTORY_DR_<R> (the shipped plugin's dead reckoning).
+void expectTeamIsDeadReckoning(const Outputs& outputs) {
+  for (const std::string robot : {"A", "B"}) {
+    const roam::trajectory_t& team = outputs.paths.at("TRAJECTORY_TEAM_" + robot);
+    const roam::trajectory_t& dr = outputs.paths.at("TRAJECTORY_DR_" + robot);
+    ASSERT_EQ(team.x.size(), dr.x.size()) << robot;
+    for (size_t k = 0; k < team.x.size(); ++k) {
+      ASSERT_NEAR(team.x[k], dr.x[k], 1e-9) << robot << " pose " << k;
+      ASSERT_NEAR(team.y[k], dr.y[k], 1e-9) << robot << " pose " << k;
+    }
+  }
+}
+
+// team_dr turning 0.01 rad a step more than the odometry (B the other way): over 300 steps 3 rad,
+// each path curls metres away from the truth (the small world's dead reckoning drifts ~2 % of the
+// distance), so it explains the ranges to beacons (1.3 m against 0.08 m) and the 61 exact ranges
+// from A to B worse than dead reckoning.
+constexpr const char* kDistorted = "heading_bias_rad = 0.01\n";
+
+TEST(TeamRun, SelfCheckLeavesAGoodTeamAnswerAndScoresEveryRange) {
+  const fs::path dir = scratchDir("team_check_good");
+  writeTeamLog(dir / "team.lcmlog", twoRobots());
+  const auto result = run(roamRun() + " " + writeFile(dir / "team.ini", teamConfig(dir / "team.lcmlog")).string() +
+                          " --no-progress");
+  ASSERT_EQ(result.status, 0) << result.output;
+  const Outputs outputs = readOutputs(dir / "result.lcmlog");
+  expectTeamIsDeadReckoning(outputs);  // team_dr's exact dead reckoning, left as it is
+  const auto& status = outputs.statuses.at("STATUS_TEAM");
+  EXPECT_EQ(noteStartingWith(status, TeamSelfCheck::kTeamWorseNote), "");
+  EXPECT_EQ(noteStartingWith(status, TeamSelfCheck::kNoRangeNote), "");
+  // Scored: A's ranges to beacons, B's, and the 61 from A to B; its paths fit as dead reckoning does.
+  for (const std::string robot : {"A", "B"}) {
+    ASSERT_TRUE(status.count(TeamSelfCheck::memberKey(SelfCheck::kRangesScored, robot))) << robot;
+    EXPECT_GT(status.at(TeamSelfCheck::memberKey(SelfCheck::kRangesScored, robot)), 100.0) << robot;
+    EXPECT_NEAR(status.at(TeamSelfCheck::memberKey(SelfCheck::kPathFit, robot)),
+                status.at(TeamSelfCheck::memberKey(SelfCheck::kDeadReckoningFit, robot)), 1e-9);
+  }
+  ASSERT_TRUE(status.count(TeamSelfCheck::kRobotRangesScored));
+  EXPECT_EQ(status.at(TeamSelfCheck::kRobotRangesScored), 61.0);
+  EXPECT_NEAR(status.at(TeamSelfCheck::kRobotPathFit), status.at(TeamSelfCheck::kRobotDeadReckoningFit), 1e-9);
+}
+
+// Distorted, with every range, and with the ranges between robots alone (a robot with ranges to
+// other robots only has used ranges: judged, not "no usable range"): replaced by dead reckoning.
+TEST(TeamRun, SelfCheckReplacesADistortedTeamAnswerByDeadReckoning) {
+  for (const bool beacon_ranges : {true, false}) {
+    SCOPED_TRACE(beacon_ranges ? "every range" : "ranges between robots only");
+    const fs::path dir = scratchDir(beacon_ranges ? "team_check_bad" : "team_check_bad_robots");
+    TwoRobots team = twoRobots();
+    if (!beacon_ranges) team.a.ranges.clear(), team.b.ranges.clear();
+    writeTeamLog(dir / "team.lcmlog", team);
+    const std::string config = withTeamKeys(teamConfig(dir / "team.lcmlog"), kDistorted);
+    const auto result = run(roamRun() + " " + writeFile(dir / "team.ini", config).string() + " --no-progress");
+    ASSERT_EQ(result.status, 0) << result.output;
+    const Outputs outputs = readOutputs(dir / "result.lcmlog");
+    expectTeamIsDeadReckoning(outputs);
+    const auto& status = outputs.statuses.at("STATUS_TEAM");
+    const std::string note = noteStartingWith(status, TeamSelfCheck::kTeamWorseNote);
+    ASSERT_NE(note, "");
+    EXPECT_NE(note.find("ranges between robots"), std::string::npos) << note;
+    EXPECT_EQ(note.find("A, ranges to beacons") != std::string::npos, beacon_ranges) << note;
+    EXPECT_EQ(noteStartingWith(status, TeamSelfCheck::kNoRangeNote), "");
+    EXPECT_GT(status.at(TeamSelfCheck::kRobotPathFit), status.at(TeamSelfCheck::kRobotDeadReckoningFit));
+    // Said at the end of the run too: "note: team self-check: the team's paths ...".
+    EXPECT_NE(result.output.find("note: team " + std::string(TeamSelfCheck::kTeamWorseNote).substr(6)), std::string::npos)
+        << result.output;
+  }
+}
+
+// No range between robots: team_dr accepts none (it takes only those), so no robot used a range
+// and each publishes its dead reckoning exactly, however its answer was distorted.
+TEST(TeamRun, SelfCheckPublishesDeadReckoningForRobotsThatUsedNoRange) {
+  const fs::path dir = scratchDir("team_check_no_range");
+  TwoRobots team = twoRobots();
+  team.a_to_b.clear();
+  writeTeamLog(dir / "team.lcmlog", team);
+  const std::string config = withTeamKeys(teamConfig(dir / "team.lcmlog"), kDistorted);
+  const auto result = run(roamRun() + " " + writeFile(dir / "team.ini", config).string() + " --no-progress");
+  ASSERT_EQ(result.status, 0) << result.output;
+  const Outputs outputs = readOutputs(dir / "result.lcmlog");
+  expectTeamIsDeadReckoning(outputs);
+  const auto& status = outputs.statuses.at("STATUS_TEAM");
+  for (const std::string robot : {"A", "B"}) {
+    bool named = false;
+    for (const auto& [key, value] : status)
+      named = named || (key.rfind(TeamSelfCheck::kNoRangeNote, 0) == 0 && key.find("(robot " + robot + ")") != std::string::npos);
+    EXPECT_TRUE(named) << robot;
+  }
+}
+
+// The same run twice: the same decision, the same paths and figures, bit for bit.
+TEST(TeamRun, SelfCheckRepeatsBitForBit) {
+  std::vector<Outputs> runs;
+  for (const char* name : {"team_check_repeat_1", "team_check_repeat_2"}) {
+    const fs::path dir = scratchDir(name);
+    writeTeamLog(dir / "team.lcmlog", twoRobots());
+    const std::string config = withTeamKeys(teamConfig(dir / "team.lcmlog"), kDistorted);
+    const auto result = run(roamRun() + " " + writeFile(dir / "team.ini", config).string() + " --no-progress");
+    ASSERT_EQ(result.status, 0) << result.output;
+    runs.push_back(readOutputs(dir / "result.lcmlog"));
+  }
+  ASSERT_NE(noteStartingWith(runs[0].statuses.at("STATUS_TEAM"), TeamSelfCheck::kTeamWorseNote), "");
+  EXPECT_EQ(runs[0].statuses.at("STATUS_TEAM"), runs[1].statuses.at("STATUS_TEAM"));
+  for (const char* channel : {"TRAJECTORY_TEAM_A", "TRAJECTORY_TEAM_B"}) {
+    EXPECT_EQ(runs[0].paths.at(channel).x, runs[1].paths.at(channel).x) << channel;
+    EXPECT_EQ(runs[0].paths.at(channel).y, runs[1].paths.at(channel).y) << channel;
+  }
+}
+
 }  // namespace
 }  // namespace roam

@@ -3,6 +3,12 @@
 // (diagnostics "ranges between robots" and "ranges from <robot> to <robot>"). Its paths must
 // equal the shipped deadreckoning plugin's on each robot, so the team's routing is tested against
 // the one-robot routing.
+//
+// Its key `heading_bias_rad` (default 0) turns robot r's published path by (-1)^r times that much
+// more per step than its odometry does: an answer worse than dead reckoning, for the team
+// self-check's tests (roam/self_check.hpp). Robots curl opposite ways, so the distances between
+// them are wrong too (one curl shared by every robot of a team started side by side moves them
+// together, and their ranges between robots barely see it).
 #include <array>
 #include <map>
 #include <string>
@@ -15,6 +21,7 @@ namespace {
 
 class TeamDeadReckoning : public roam::Estimator {
  public:
+  explicit TeamDeadReckoning(double heading_bias_rad) : heading_bias_rad_(heading_bias_rad) {}
   void setTeam(const std::vector<std::string>& robots) override {
     robots_ = robots;
     paths_.assign(robots.size(), {});
@@ -35,7 +42,8 @@ class TeamDeadReckoning : public roam::Estimator {
     }
     const roam::Pose& last = path.back();
     const double pose[3] = {last.x_m, last.y_m, last.heading_rad};
-    const double increment[3] = {odometry.forward_m, odometry.lateral_m, odometry.delta_heading_rad};
+    const double increment[3] = {odometry.forward_m, odometry.lateral_m, odometry.delta_heading_rad +
+                                 (odometry.robot % 2 == 0 ? heading_bias_rad_ : -heading_bias_rad_)};
     double next[3];
     roam::composeIncrement(pose, increment, next);
     roam::Pose out;
@@ -63,13 +71,16 @@ class TeamDeadReckoning : public roam::Estimator {
   }
 
  private:
+  double heading_bias_rad_ = 0.0;
   std::vector<std::string> robots_;
   std::vector<roam::Path> paths_;
 };
 
 std::unique_ptr<roam::Estimator> makeTeamDeadReckoning(roam::Options& options) {
+  double heading_bias_rad = 0.0;
+  options.add("heading_bias_rad", &heading_bias_rad, "added to every step's heading change (a distorted answer)");
   options.parse();
-  return std::make_unique<TeamDeadReckoning>();
+  return std::make_unique<TeamDeadReckoning>(heading_bias_rad);
 }
 
 }  // namespace
