@@ -255,6 +255,21 @@ int main(int argc, char** argv) {
     }
     for (const auto& line : rangeUseNotes(ranges, channel, range_use)) std::fprintf(stderr, "roam-run: %s\n", line.c_str());
   }
+  // A team's ranges between robots reach team plugins only: say which estimators ran each robot
+  // alone without them.
+  if (config.isTeam() && counters.robot_ranges > 0) {
+    std::string alone;
+    for (const auto& section : config.estimators) {  // as run: one-robot plugins' copies end in _<robot>
+      if (section.robot != 0) continue;
+      const std::string base = section.name.substr(0, section.name.size() - config.team[0].size() - 1);
+      alone += (alone.empty() ? "" : ", ") + base;
+    }
+    if (!alone.empty())
+      std::fprintf(stderr,
+                   "roam-run: note: ran each robot alone, without the %lld ranges between robots (their plugins "
+                   "estimate one robot; spectral_batch and ekf solve the team): %s\n",
+                   static_cast<long long>(counters.robot_ranges), alone.c_str());
+  }
   std::vector<std::string> failures;
   for (const auto& slot : host->estimators()) {
     if (slot.instance->failed()) {

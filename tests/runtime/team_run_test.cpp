@@ -142,6 +142,11 @@ TEST(TeamRun, EachRobotsPathEqualsItsOwnRunAndTheTeamPluginSeesEveryRange) {
   // poses of A, every fifth: 0, 5, ..., 300).
   EXPECT_NE(result.output.find("600 odometry"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("61 ranges between robots"), std::string::npos) << result.output;
+  // deadreckoning ran each robot alone; the team plugin (team_dr) is not named.
+  EXPECT_NE(result.output.find("roam-run: note: ran each robot alone, without the 61 ranges between robots (their "
+                               "plugins estimate one robot; spectral_batch and ekf solve the team): dr\n"),
+            std::string::npos)
+      << result.output;
 
   // Robot B alone, on its own log.
   writeDatasetLog((dir / "b.lcmlog").string(), team.b);
