@@ -7,6 +7,45 @@
 namespace roam {
 namespace plot {
 
+PanelGrid panelGrid(double x_lo, double x_hi, double y_lo, double y_hi, size_t panels, double width_px,
+                    double height_px, double header_px, double outer_px) {
+  // Room around each frame for its title, tick labels and scale bar.
+  constexpr double kPanelLeftPx = 58, kPanelRightPx = 14, kPanelTopPx = 40, kPanelBottomPx = 42;
+  const double world_w = x_hi - x_lo, world_h = y_hi - y_lo;
+  const double area_w = width_px - 2 * outer_px, area_h = height_px - header_px - outer_px + 6;
+  size_t best_cols = 1;
+  double scale = 0;
+  for (size_t cols = 1; cols <= panels; ++cols) {
+    const size_t rows = (panels + cols - 1) / cols;
+    const double fw = area_w / cols - kPanelLeftPx - kPanelRightPx;
+    const double fh = area_h / rows - kPanelTopPx - kPanelBottomPx;
+    const double s = std::min(fw / world_w, fh / world_h);
+    if (s > scale) { scale = s; best_cols = cols; }
+  }
+  if (!(scale > 0)) scale = 1e-3;
+  const size_t cols = best_cols, rows = (panels + cols - 1) / cols;
+  const double cell_w = area_w / cols, cell_h = area_h / rows;
+  const double frame_w = std::max(cell_w - kPanelLeftPx - kPanelRightPx, 10.0);
+  const double frame_h = std::max(cell_h - kPanelTopPx - kPanelBottomPx, 10.0);
+  const double cx = 0.5 * (x_lo + x_hi), cy = 0.5 * (y_lo + y_hi);
+  PanelGrid grid;
+  grid.labels = AxisLabels{"x (m)", "y (m)", 1, 1};
+  grid.labels.x_step = grid.labels.y_step = niceStep(frame_w / scale, std::max(2, static_cast<int>(frame_w / 70)));
+  for (size_t i = 0; i < panels; ++i) {
+    Frame frame;
+    frame.left_px = outer_px + (i % cols) * cell_w + kPanelLeftPx;
+    frame.top_px = header_px - 6 + (i / cols) * cell_h + kPanelTopPx;
+    frame.width_px = frame_w;
+    frame.height_px = frame_h;
+    frame.x_lo = cx - 0.5 * frame_w / scale;
+    frame.x_hi = cx + 0.5 * frame_w / scale;
+    frame.y_lo = cy - 0.5 * frame_h / scale;
+    frame.y_hi = cy + 0.5 * frame_h / scale;
+    grid.frames.push_back(frame);
+  }
+  return grid;
+}
+
 double niceStep(double span, int max_ticks) {
   const double raw = span / std::max(1, max_ticks);
   double magnitude = std::pow(10.0, std::floor(std::log10(raw)));

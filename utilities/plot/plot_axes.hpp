@@ -42,6 +42,16 @@ void drawAxes(SvgWriter& svg, const Frame& frame, const AxisLabels& labels);
 // The frame must be metric (pixels per metre equal in x and y).
 void drawScaleBar(SvgWriter& svg, const Frame& frame);
 
+// The panels of a paths figure over the area right of and below `outer_px` and below `header_px`:
+// the grid of `panels` cells whose frames give the largest common metric scale to the world box
+// [x_lo, x_hi] x [y_lo, y_hi], each frame centred on the box, and the tick step for that scale.
+struct PanelGrid {
+  std::vector<Frame> frames;
+  AxisLabels labels;
+};
+PanelGrid panelGrid(double x_lo, double x_hi, double y_lo, double y_hi, size_t panels, double width_px,
+                    double height_px, double header_px, double outer_px);
+
 // Pixel points of a data polyline, dropping points closer than `min_spacing_px` to the last kept
 // one (the last point is always kept) and non-finite ones; coordinates far outside the frame are
 // clamped so that a diverged estimate still writes short numbers (the frame's clip hides them).

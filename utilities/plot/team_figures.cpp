@@ -18,7 +18,6 @@ namespace plot {
 namespace {
 
 // As paths_figure.cpp and error_figure.cpp.
-constexpr double kPanelLeftPx = 58, kPanelRightPx = 14, kPanelTopPx = 40, kPanelBottomPx = 42;
 constexpr double kOuterPx = 10;
 constexpr double kLeftPx = 72, kRightPx = 24, kBottomPx = 50;
 constexpr double kHeadroom = 1.05, kSpikeRatio = 2.0, kOffScaleRatio = 5.0;
@@ -207,37 +206,12 @@ std::string teamPathsFigureSvg(const ResultLog& log, const std::vector<TeamSerie
   const double header = drawLegend(&svg, legend, kOuterPx + 6, 46, width - kOuterPx);
 
   const Box world = window(log, series);
-  const double world_w = world.x_hi - world.x_lo, world_h = world.y_hi - world.y_lo;
   const size_t panels = overlay ? 1 : series.size();
-  const double area_w = width - 2 * kOuterPx, area_h = height - header - kOuterPx + 6;
-  size_t best_cols = 1;
-  double scale = 0;
-  for (size_t cols = 1; cols <= panels; ++cols) {
-    const size_t rows = (panels + cols - 1) / cols;
-    const double fw = area_w / cols - kPanelLeftPx - kPanelRightPx;
-    const double fh = area_h / rows - kPanelTopPx - kPanelBottomPx;
-    const double s = std::min(fw / world_w, fh / world_h);
-    if (s > scale) { scale = s; best_cols = cols; }
-  }
-  if (!(scale > 0)) scale = 1e-3;
-  const size_t cols = best_cols, rows = (panels + cols - 1) / cols;
-  const double cell_w = area_w / cols, cell_h = area_h / rows;
-  const double frame_w = std::max(cell_w - kPanelLeftPx - kPanelRightPx, 10.0);
-  const double frame_h = std::max(cell_h - kPanelTopPx - kPanelBottomPx, 10.0);
-  const double cx = 0.5 * (world.x_lo + world.x_hi), cy = 0.5 * (world.y_lo + world.y_hi);
-  AxisLabels labels{"x (m)", "y (m)", 1, 1};
-  labels.x_step = labels.y_step = niceStep(frame_w / scale, std::max(2, static_cast<int>(frame_w / 70)));
+  const PanelGrid grid = panelGrid(world.x_lo, world.x_hi, world.y_lo, world.y_hi, panels, width, height, header, kOuterPx);
+  const AxisLabels& labels = grid.labels;
 
   for (size_t i = 0; i < panels; ++i) {
-    Frame frame;
-    frame.left_px = kOuterPx + (i % cols) * cell_w + kPanelLeftPx;
-    frame.top_px = header - 6 + (i / cols) * cell_h + kPanelTopPx;
-    frame.width_px = frame_w;
-    frame.height_px = frame_h;
-    frame.x_lo = cx - 0.5 * frame_w / scale;
-    frame.x_hi = cx + 0.5 * frame_w / scale;
-    frame.y_lo = cy - 0.5 * frame_h / scale;
-    frame.y_hi = cy + 0.5 * frame_h / scale;
+    const Frame& frame = grid.frames[i];
     drawAxes(svg, frame, labels);
     const std::string clip = "panel" + std::to_string(i);
     svg.clipRect(clip, frame.left_px, frame.top_px, frame.width_px, frame.height_px);
