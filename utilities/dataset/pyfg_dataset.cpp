@@ -57,7 +57,6 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
   long ranges_to_robots = 0;  // of the robot read: ranges whose other end is another robot
   Line line;
   line.file = path;
-  std::string text;
   auto severalRobots = [&](const Line& l, int letter) {
     l.fail(std::string("several robots ('") + static_cast<char>(*robot) + "' and '" + static_cast<char>(letter) +
            "'): roam runs one robot per log; choose one with --robot " + static_cast<char>(*robot) +
@@ -97,13 +96,7 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
     if (!beacons.count(index)) l.fail("beacon '" + name + "' has no VERTEX_XY");
     return index;
   };
-  while (std::getline(in, text)) {
-    ++line.number;
-    if (!text.empty() && text.back() == '\r') text.pop_back();
-    std::istringstream words(text);
-    line.fields.clear();
-    for (std::string word; words >> word;) line.fields.push_back(word);
-    if (line.fields.empty() || line.fields[0][0] == '#') continue;
+  while (nextFields(in, &line)) {
     const std::string& type = line.fields[0];
     if (type == "VERTEX_SE2") {
       line.expectFields(6, "time name x y theta");

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <istream>
+#include <sstream>
 #include <stdexcept>
 
 namespace roam {
@@ -75,6 +77,18 @@ double Line::number_at(size_t i, const char* what) const {
 
 void Line::checkNumbers(size_t first, size_t end, size_t measurements) const {
   for (size_t i = first; i < end; ++i) number_at(i, i < first + measurements ? "measurement" : "covariance");
+}
+
+bool nextFields(std::istream& in, Line* line) {
+  for (std::string text; std::getline(in, text);) {
+    ++line->number;
+    if (!text.empty() && text.back() == '\r') text.pop_back();
+    std::istringstream words(text);
+    line->fields.clear();
+    for (std::string word; words >> word;) line->fields.push_back(word);
+    if (!line->fields.empty() && line->fields[0][0] != '#') return true;
+  }
+  return false;
 }
 
 bool splitName(const std::string& name, int* letter, int* index) {

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <map>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,10 @@ struct Line {
   // `measurements` of them named "measurement", the rest "covariance".
   void checkNumbers(size_t first, size_t end, size_t measurements) const;
 };
+
+// The next line of `in` that holds a measurement: its number counted (blank and '#' comment lines
+// too) and its whitespace-separated fields (a CR before the LF dropped). False at the end.
+bool nextFields(std::istream& in, Line* line);
 
 // "A12" -> ('A', 12); "L3" -> ('L', 3); false if not a letter followed by digits.
 bool splitName(const std::string& name, int* letter, int* index);

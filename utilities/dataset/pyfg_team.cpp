@@ -75,14 +75,7 @@ TeamImport loadPyfgTeam(const std::string& path, const PyfgImportOptions& option
     if (!beacons.count(index)) l.fail("beacon '" + name + "' has no VERTEX_XY");
     return index;
   };
-  std::string text;
-  while (std::getline(in, text)) {
-    ++line.number;
-    if (!text.empty() && text.back() == '\r') text.pop_back();
-    std::istringstream words(text);
-    line.fields.clear();
-    for (std::string word; words >> word;) line.fields.push_back(word);
-    if (line.fields.empty() || line.fields[0][0] == '#') continue;
+  while (pyfg::nextFields(in, &line)) {
     const std::string& type = line.fields[0];
     if (type == "VERTEX_SE2") {
       line.expectFields(6, "time name x y theta");
