@@ -12,7 +12,7 @@ namespace roam {
 namespace plot {
 namespace {
 
-constexpr double kLeftPx = 72, kRightPx = 24, kBottomPx = 50, kOuterPx = 10;
+constexpr double kOuterPx = 10;
 constexpr double kHeadroom = 1.05;  // the error axis ends at least this much above the top curve
 constexpr double kSpikeRatio = 2.0;  // a curve whose max exceeds this times its p99 is clipped at p99
 constexpr double kOffScaleRatio = 5.0;  // see the y axis below
@@ -85,15 +85,7 @@ std::string errorFigureSvg(const ResultLog& log, const std::vector<Series>& seri
   }
   const double header = drawLegend(&svg, legend, kOuterPx + 6, 46, width - kOuterPx);
 
-  Frame frame;
-  frame.left_px = kLeftPx;
-  frame.top_px = header + 6;
-  frame.width_px = std::max(width - kLeftPx - kRightPx, 10.0);
-  frame.height_px = std::max(height - header - 6 - kBottomPx, 10.0);
-  frame.x_lo = 0;
-  frame.x_hi = t_end;
-  frame.y_lo = 0;
-  frame.y_hi = y_top;
+  const Frame frame = errorFrame(width, height, header, t_end, y_top);
   AxisLabels labels{"time since start (s)", "position error (m)", 1, y_step};
   labels.x_step = niceStep(t_end, std::max(2, static_cast<int>(frame.width_px / 90)));
   drawAxes(svg, frame, labels);

@@ -46,6 +46,20 @@ PanelGrid panelGrid(double x_lo, double x_hi, double y_lo, double y_hi, size_t p
   return grid;
 }
 
+Frame errorFrame(double width_px, double height_px, double header_px, double t_end_s, double y_top_m) {
+  constexpr double kLeftPx = 72, kRightPx = 24, kBottomPx = 50;
+  Frame frame;
+  frame.left_px = kLeftPx;
+  frame.top_px = header_px + 6;
+  frame.width_px = std::max(width_px - kLeftPx - kRightPx, 10.0);
+  frame.height_px = std::max(height_px - header_px - 6 - kBottomPx, 10.0);
+  frame.x_lo = 0;
+  frame.x_hi = t_end_s;
+  frame.y_lo = 0;
+  frame.y_hi = y_top_m;
+  return frame;
+}
+
 double niceStep(double span, int max_ticks) {
   const double raw = span / std::max(1, max_ticks);
   double magnitude = std::pow(10.0, std::floor(std::log10(raw)));

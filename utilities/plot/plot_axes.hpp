@@ -52,6 +52,10 @@ struct PanelGrid {
 PanelGrid panelGrid(double x_lo, double x_hi, double y_lo, double y_hi, size_t panels, double width_px,
                     double height_px, double header_px, double outer_px);
 
+// An error figure's one frame below `header_px`: time [0, t_end_s] across, error [0, y_top_m] up,
+// with room on the left and below for the tick labels and axis titles.
+Frame errorFrame(double width_px, double height_px, double header_px, double t_end_s, double y_top_m);
+
 // Pixel points of a data polyline, dropping points closer than `min_spacing_px` to the last kept
 // one (the last point is always kept) and non-finite ones; coordinates far outside the frame are
 // clamped so that a diverged estimate still writes short numbers (the frame's clip hides them).

@@ -19,7 +19,6 @@ namespace {
 
 // As paths_figure.cpp and error_figure.cpp.
 constexpr double kOuterPx = 10;
-constexpr double kLeftPx = 72, kRightPx = 24, kBottomPx = 50;
 constexpr double kHeadroom = 1.05, kSpikeRatio = 2.0, kOffScaleRatio = 5.0;
 const char* const kMapColour = "#333333";  // the team's map is the team's, not one robot's
 
@@ -289,15 +288,7 @@ std::string teamErrorFigureSvg(const ResultLog& log, const std::vector<TeamSerie
     if (max_error[i] > y_top) legend[log.team_ground_truth.size() + i].label.insert(legend[log.team_ground_truth.size() + i].label.size() - 1, ", off the top");
   const double header = drawLegend(&svg, legend, kOuterPx + 6, 46, width - kOuterPx);
 
-  Frame frame;
-  frame.left_px = kLeftPx;
-  frame.top_px = header + 6;
-  frame.width_px = std::max(width - kLeftPx - kRightPx, 10.0);
-  frame.height_px = std::max(height - header - 6 - kBottomPx, 10.0);
-  frame.x_lo = 0;
-  frame.x_hi = t_end;
-  frame.y_lo = 0;
-  frame.y_hi = y_top;
+  const Frame frame = errorFrame(width, height, header, t_end, y_top);
   AxisLabels labels{"time since the team's start (s)", "position error (m)", 1, y_step};
   labels.x_step = niceStep(t_end, std::max(2, static_cast<int>(frame.width_px / 90)));
   drawAxes(svg, frame, labels);
