@@ -201,10 +201,7 @@ PyfgImport loadPyfgDataset(const std::string& path, const PyfgImportOptions& opt
   const std::string unit_note = pyfg::timeUnitNote(path, options, unit_s, latest);
   if (!unit_note.empty()) result.notes.push_back(unit_note);
   auto note = [&](const LineTally& set_aside, const std::string& what, const std::string& why) {
-    if (set_aside.count == 0) return;
-    result.notes.push_back(path + ":" + std::to_string(set_aside.first_line) + ": set aside " +
-                           std::to_string(set_aside.count) + " " + what + (set_aside.count > 1 ? " (the first here)" : "") +
-                           ": " + why);
+    if (std::string text = pyfg::setAsideNote(path, set_aside, what, why); !text.empty()) result.notes.push_back(text);
   };
   note(pose_priors, "pose prior(s) (VERTEX_SE2:PRIOR)",
        "the first VERTEX_SE2 is the start pose, and roam's estimators take no absolute fix");

@@ -79,6 +79,13 @@ void Line::checkNumbers(size_t first, size_t end, size_t measurements) const {
   for (size_t i = first; i < end; ++i) number_at(i, i < first + measurements ? "measurement" : "covariance");
 }
 
+std::string setAsideNote(const std::string& file, const LineTally& set_aside, const std::string& what,
+                         const std::string& why) {
+  if (set_aside.count == 0) return "";
+  return file + ":" + std::to_string(set_aside.first_line) + ": set aside " + std::to_string(set_aside.count) + " " +
+         what + (set_aside.count > 1 ? " (the first here)" : "") + ": " + why;
+}
+
 bool nextFields(std::istream& in, Line* line) {
   for (std::string text; std::getline(in, text);) {
     ++line->number;

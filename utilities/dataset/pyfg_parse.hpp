@@ -34,6 +34,10 @@ struct Line {
 // too) and its whitespace-separated fields (a CR before the LF dropped). False at the end.
 bool nextFields(std::istream& in, Line* line);
 
+// "<file>:<first line>: set aside N <what> (the first here): <why>", or "" where none was.
+std::string setAsideNote(const std::string& file, const LineTally& set_aside, const std::string& what,
+                         const std::string& why);
+
 // "A12" -> ('A', 12); "L3" -> ('L', 3); false if not a letter followed by digits.
 bool splitName(const std::string& name, int* letter, int* index);
 
