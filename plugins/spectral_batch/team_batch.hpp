@@ -2,10 +2,10 @@
 // input one solve of the whole team (team_solve.hpp: every robot's poses and odometry calibration,
 // the ranges between robots and to surveyed beacons, the noise learned from the data).
 //
-// Anchor: every robot's start pose (INITIAL_POSE_<robot>), held. A robot whose start pose never
-// came starts at the origin, with a note. The spectral seed is a one-robot method and is not
-// used: the team is seeded by each robot's dead reckoning. Beacons not in the survey are not yet
-// placed from ranges: their ranges are set aside with a note (TeamResult::notes).
+// Anchor: the robots' start poses that came (INITIAL_POSE_<robot>), held. A robot whose start
+// never came is placed from its ranges (team_starts.hpp) and solved, or, where its ranges cannot
+// place it, left in its own frame; a note says which, and why. The spectral seed is a one-robot
+// method and is not used: the team is seeded by each robot's dead reckoning.
 #pragma once
 
 #include <optional>

@@ -13,6 +13,7 @@
 
 #include "batch_redundancy.hpp"
 #include "batch_residuals.hpp"
+#include "team_starts.hpp"
 #include "roam/estimation/multilateration.hpp"
 
 namespace roam {
@@ -98,22 +99,6 @@ struct BearingResidual {
   double bearing_rad, sigma_rad, alpha;
 };
 
-// Where time t falls on a robot's pose chain: between pose `step` and step + 1, alpha along.
-struct StepLocation {
-  int step = 0;
-  double alpha = 0.0;
-};
-
-bool locate(const std::vector<int64_t>& times, int64_t t, StepLocation* out) {
-  if (times.size() < 2 || t < times.front() || t > times.back()) return false;
-  const int n = static_cast<int>(times.size());
-  int k = static_cast<int>(std::upper_bound(times.begin(), times.end(), t) - times.begin()) - 1;
-  k = std::min(k, n - 2);  // t at the last pose: alpha = 1 on the last step
-  out->step = k;
-  out->alpha = static_cast<double>(t - times[k]) / static_cast<double>(times[k + 1] - times[k]);
-  return true;
-}
-
 struct RobotRangeObservation {
   int robot_i = 0, robot_j = 0;
   StepLocation at_i, at_j;
@@ -194,7 +179,8 @@ std::unique_ptr<ceres::Problem> buildProblem(const TeamInput& input, const TeamS
                                              std::vector<std::array<double, 2>>* calibration,
                                              std::vector<std::array<double, 2>>* beacons,
                                              const std::vector<bool>& beacon_surveyed,
-                                             std::array<std::array<double, 2>, 2>* range_calibration, Blocks* blocks) {
+                                             std::array<std::array<double, 2>, 2>* range_calibration,
+                                             const std::vector<TeamStart>& starts, Blocks* blocks) {
   ceres::Problem::Options problem_options;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   auto problem = std::make_unique<ceres::Problem>(problem_options);
@@ -203,7 +189,8 @@ std::unique_ptr<ceres::Problem> buildProblem(const TeamInput& input, const TeamS
     const std::vector<Odometry>& odometry = input.robots[r].odometry;
     std::vector<std::array<double, 3>>& path = (*poses)[r];
     problem->AddParameterBlock(path[0].data(), 3);
-    problem->SetParameterBlockConstant(path[0].data());  // anchor: the start pose
+    // The anchor: a start given (or not found: that robot keeps its own frame) is held.
+    if (starts[r].source != TeamStart::Source::kFound) problem->SetParameterBlockConstant(path[0].data());
     if (odometry.empty()) continue;
     double* odometry_calibration = (*calibration)[r].data();
     for (size_t k = 0; k < odometry.size(); ++k) {
@@ -300,6 +287,7 @@ std::map<int, std::array<double, 2>> placeUnsurveyedBeacons(const TeamInput& inp
                                                             const std::vector<std::vector<int64_t>>& times,
                                                             const std::vector<std::vector<std::array<double, 3>>>& poses,
                                                             const std::map<int, int>& surveyed,
+                                                            const std::vector<TeamStart>& starts,
                                                             std::vector<std::string>* notes) {
   struct Sightings {
     std::vector<std::array<double, 2>> positions_m;
@@ -307,6 +295,7 @@ std::map<int, std::array<double, 2>> placeUnsurveyedBeacons(const TeamInput& inp
   };
   std::map<int, Sightings> by_beacon;
   for (size_t r = 0; r < input.robots.size(); ++r) {
+    if (starts[r].source == TeamStart::Source::kNotFound) continue;  // in its own frame
     for (const Range& range : input.robots[r].beacon_ranges) {
       StepLocation at;
       if (surveyed.count(range.beacon_id) || !locate(times[r], range.utime, &at)) continue;
@@ -350,10 +339,18 @@ TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options) {
   std::vector<std::vector<double>> dt_s(num_robots);
   std::vector<std::vector<std::array<double, 3>>> poses(num_robots);
   std::vector<std::array<double, 2>> calibration(num_robots, {1.0, 0.0});
+  // The anchor: the starts known; with none and no beacon surveyed, robot 0's start as given.
+  std::vector<bool> start_known(static_cast<size_t>(num_robots));
+  for (int r = 0; r < num_robots; ++r) start_known[r] = input.robots[r].start_known;
+  if (std::none_of(start_known.begin(), start_known.end(), [](bool known) { return known; }) && input.beacons.empty()) {
+    start_known[0] = true;
+    result.notes.push_back("no robot's start is known and no beacon is surveyed: robot 0's start fixes the team's frame");
+  }
   for (int r = 0; r < num_robots; ++r) {
     const TeamRobot& robot = input.robots[r];
     times[r].push_back(robot.start.utime);
     Eigen::Vector3d pose(robot.start.x_m, robot.start.y_m, robot.start.heading_rad);
+    if (!start_known[r]) pose.setZero();  // its own frame until it is placed
     poses[r].push_back({pose[0], pose[1], pose[2]});
     for (const Odometry& o : robot.odometry) {
       dt_s[r].push_back(1e-6 * static_cast<double>(o.utime - times[r].back()));
@@ -363,6 +360,9 @@ TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options) {
     }
     result.summary.poses += static_cast<int>(poses[r].size());
   }
+  result.starts = findUnknownStarts(input, options, times, dt_s, start_known, &poses);
+  // A robot not placed keeps its own frame: its ranges are set aside.
+  const auto notPlaced = [&](int r) { return result.starts[static_cast<size_t>(r)].source == TeamStart::Source::kNotFound; };
 
   // Observations on the pose chains; what cannot be placed is set aside with a note.
   std::vector<RobotRangeObservation> robot_ranges;
@@ -371,6 +371,7 @@ TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options) {
     RobotRangeObservation o;
     o.robot_i = range.robot;
     o.robot_j = range.other_robot;
+    if (notPlaced(o.robot_i) || notPlaced(o.robot_j)) continue;
     if (!locate(times[o.robot_i], range.utime, &o.at_i) || !locate(times[o.robot_j], range.utime, &o.at_j)) {
       ++outside_span;
       continue;
@@ -393,7 +394,7 @@ TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options) {
   }
   std::vector<int> placed_ids;
   if (options.use_beacon_ranges && options.place_unsurveyed_beacons) {
-    const auto placed = placeUnsurveyedBeacons(input, options, times, poses, beacon_index, &result.notes);
+    const auto placed = placeUnsurveyedBeacons(input, options, times, poses, beacon_index, result.starts, &result.notes);
     for (const auto& [id, position] : placed) {
       beacon_index[id] = static_cast<int>(beacons.size());
       beacons.push_back(position);
@@ -404,6 +405,7 @@ TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options) {
   std::vector<BeaconObservation> beacon_observations;
   int unsurveyed = 0, beacon_outside_span = 0, beacon_total = 0;
   for (int r = 0; r < num_robots; ++r) {
+    if (notPlaced(r)) continue;
     for (const Range& range : input.robots[r].beacon_ranges) {
       ++beacon_total;
       if (!options.use_beacon_ranges) continue;
@@ -458,7 +460,7 @@ TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options) {
     Blocks blocks;
     std::unique_ptr<ceres::Problem> problem =
         buildProblem(input, options, dt_s, robot_ranges, beacon_observations, factors, &loss, &poses, &calibration,
-                     &beacons, beacon_surveyed, &range_calibration, &blocks);
+                     &beacons, beacon_surveyed, &range_calibration, result.starts, &blocks);
     ceres::Solver::Summary solve;
     ceres::Solve(solver_options, problem.get(), &solve);
     if (round == 0) summary.initial_cost = solve.initial_cost;

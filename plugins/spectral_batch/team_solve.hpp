@@ -26,7 +26,11 @@
 // the data: after a solve, each group's whitened squares over its redundancy number
 // (batch_redundancy.hpp) scales its factor, and the problem is solved again from the solution.
 //
-// Gauge: every robot's start pose held constant (anchor = start poses).
+// Gauge: each robot's start pose that is known (TeamRobot::start_known) is held constant. A robot
+// whose start is not known is placed first from its ranges to what is placed (team_starts.hpp)
+// and its start is then solved with the rest; one its ranges cannot place keeps its own frame
+// (its start at the origin), out of the solve. With no start known and no beacon surveyed,
+// robot 0's start is held where it was given, and the team's frame is robot 0's.
 #pragma once
 
 #include <Eigen/Core>
@@ -37,6 +41,7 @@
 
 #include "roam/calibration_priors.hpp"
 #include "roam/estimation/motion_model.hpp"
+#include "roam/estimation/start_registration.hpp"
 #include "roam/types.hpp"
 
 namespace roam {
@@ -44,6 +49,7 @@ namespace spectral_batch {
 
 struct TeamRobot {
   Pose start;                        // world_T_robot at start.utime; step 0 begins there
+  bool start_known = true;           // false: start's x, y, heading are not used (utime is)
   std::vector<Odometry> odometry;    // in time order; step k ends at odometry[k].utime
   std::vector<Range> beacon_ranges;  // other_robot = -1, beacon_id in the survey; some with bearing
 };
@@ -89,6 +95,15 @@ struct TeamSolveOptions {
   double parameter_tolerance = 1e-10;
 };
 
+// Where a robot's start pose came from.
+struct TeamStart {
+  enum class Source { kGiven, kFound, kNotFound };
+  Source source = Source::kGiven;
+  // The last registration tried (none: status kTooFew with 0 ranges). kFound: its start is the
+  // solve's initial guess.
+  estimation::StartRegistration registration;
+};
+
 struct TeamNoiseFactors {
   double odometry_translation = 1.0;
   double odometry_heading = 1.0;
@@ -119,6 +134,7 @@ struct TeamResult {
   std::array<double, 2> robot_range_calibration{1.0, 0.0};   // scale, offset_m
   std::array<double, 2> beacon_range_calibration{1.0, 0.0};  // scale, offset_m
   std::vector<estimation::OdometryCalibration> odometry_calibration;  // per robot
+  std::vector<TeamStart> starts;   // per robot
   TeamSummary summary;
   std::vector<std::string> notes;  // what was set aside and why
 };

@@ -150,35 +150,54 @@ bool validName(const std::string& name) {
   return true;
 }
 
-// [team] robots = A B C: the team's names (space- or comma-separated, each a channel suffix).
-std::vector<std::string> parseTeam(const std::vector<Setting>& settings, const Origin& section_origin) {
-  std::string robots_text;
-  KeyValues values;
-  for (const auto& setting : settings) values.emplace_back(setting.key, setting.value);
-  Options options(values);
-  options.add("robots", &robots_text,
-              "the team's robots, space-separated: each robot's inputs are on <CHANNEL>_<robot> (ODOMETRY_A, ...)");
-  parseSection(options, settings, "team", section_origin);
-  Origin origin = section_origin;
-  for (const auto& setting : settings) {
-    if (setting.key == "robots") origin = setting.origin;
-  }
-  std::vector<std::string> robots;
-  std::istringstream words(robots_text);
+// A list of robot names (space- or comma-separated, each a channel suffix), as [team] key `key`.
+std::vector<std::string> parseNames(const std::string& text, const Origin& origin, const std::string& key) {
+  std::vector<std::string> names;
+  std::istringstream words(text);
   for (std::string word; std::getline(words, word, ' ');) {
     for (std::string name; !word.empty();) {
       const auto comma = word.find(',');
       name = trim(word.substr(0, comma));
       word = comma == std::string::npos ? "" : word.substr(comma + 1);
       if (name.empty()) continue;
-      if (!validName(name)) fail(origin, "team", "robots", "'" + name + "': a robot's name must be letters, digits, '_' or '-'");
-      if (std::find(robots.begin(), robots.end(), name) != robots.end())
-        fail(origin, "team", "robots", "'" + name + "' is named twice");
-      robots.push_back(name);
+      if (!validName(name)) fail(origin, "team", key, "'" + name + "': a robot's name must be letters, digits, '_' or '-'");
+      if (std::find(names.begin(), names.end(), name) != names.end())
+        fail(origin, "team", key, "'" + name + "' is named twice");
+      names.push_back(name);
     }
   }
-  if (robots.empty()) fail(origin, "team", "robots", "missing: name the team's robots, e.g. robots = A B C");
-  return robots;
+  return names;
+}
+
+// [team] robots = A B C: the team's names; starts = A: the robots whose start pose the estimators
+// are given (default: every robot).
+void parseTeam(const std::vector<Setting>& settings, const Origin& section_origin, RunConfig* config) {
+  std::string robots_text, starts_text = "all";
+  KeyValues values;
+  for (const auto& setting : settings) values.emplace_back(setting.key, setting.value);
+  Options options(values);
+  options.add("robots", &robots_text,
+              "the team's robots, space-separated: each robot's inputs are on <CHANNEL>_<robot> (ODOMETRY_A, ...)");
+  options.add("starts", &starts_text,
+              "the robots whose INITIAL_POSE_<robot> the estimators are given (all: every robot); the others' "
+              "starts are for the estimators to find from the ranges");
+  parseSection(options, settings, "team", section_origin);
+  Origin robots_origin = section_origin, starts_origin = section_origin;
+  for (const auto& setting : settings) {
+    if (setting.key == "robots") robots_origin = setting.origin;
+    if (setting.key == "starts") starts_origin = setting.origin;
+  }
+  config->team = parseNames(robots_text, robots_origin, "robots");
+  if (config->team.empty()) fail(robots_origin, "team", "robots", "missing: name the team's robots, e.g. robots = A B C");
+  if (trim(starts_text) == "all") {
+    config->team_starts = config->team;
+    return;
+  }
+  config->team_starts = parseNames(starts_text, starts_origin, "starts");
+  for (const auto& name : config->team_starts) {
+    if (std::find(config->team.begin(), config->team.end(), name) == config->team.end())
+      fail(starts_origin, "team", "starts", "'" + name + "' is not one of the team's robots (robots = ...)");
+  }
 }
 
 }  // namespace
@@ -279,7 +298,7 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
     config.plugin_path = default_plugin_path;
   }
 
-  if (ini.sections.count("team")) config.team = parseTeam(ini.sections["team"], sectionOrigin("team"));
+  if (ini.sections.count("team")) parseTeam(ini.sections["team"], sectionOrigin("team"), &config);
 
   for (const auto& section : ini.section_order) {
     if (section.rfind("estimator.", 0) != 0) continue;
@@ -354,6 +373,11 @@ std::string formatConfig(const RunConfig& config, const std::vector<KeyValues>& 
   if (config.isTeam()) {
     out << "\n[team]\nrobots =";
     for (const auto& robot : config.team) out << " " << robot;
+    out << "\nstarts =";
+    if (config.team_starts == config.team) out << " all";
+    for (const auto& robot : config.team_starts) {
+      if (config.team_starts != config.team) out << " " << robot;
+    }
     out << "\n";
   }
   for (size_t i = 0; i < config.estimators.size(); ++i) {

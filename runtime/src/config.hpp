@@ -85,6 +85,9 @@ struct RunConfig {
   // [team] robots: empty for one robot (inputs on the channels above). A team's inputs are on
   // <CHANNEL>_<robot> (ODOMETRY_A, RANGE_A, ROBOT_RANGE_A, INITIAL_POSE_A; BEACONS is shared).
   std::vector<std::string> team;
+  // [team] starts: the robots whose INITIAL_POSE_<robot> is given to the estimators (every robot
+  // by default); the others' start poses are withheld, for a team estimator to find.
+  std::vector<std::string> team_starts;
   bool isTeam() const { return !team.empty(); }
   std::vector<Setting> runtime_settings;  // as given, for --print-config
 

@@ -35,7 +35,9 @@ Host::Host(const RunConfig& config, std::vector<EstimatorSlot> estimators, Sink*
       inputs_[config_.odometry_channel + "_" + config_.team[r]] = {InputKind::kOdometry, robot};
       inputs_[config_.range_channel + "_" + config_.team[r]] = {InputKind::kRange, robot};
       inputs_[std::string(channels::ROBOT_RANGE) + "_" + config_.team[r]] = {InputKind::kRobotRange, robot};
-      inputs_[config_.initial_pose_channel + "_" + config_.team[r]] = {InputKind::kInitialPose, robot};
+      const auto& starts = config_.team_starts;
+      if (std::find(starts.begin(), starts.end(), config_.team[r]) != starts.end())
+        inputs_[config_.initial_pose_channel + "_" + config_.team[r]] = {InputKind::kInitialPose, robot};
     }
   }
   inputs_[config_.beacons_channel] = {InputKind::kBeacons, 0};

@@ -214,6 +214,38 @@ TEST(TeamRun, ATeamNeedsDistinctRobotNames) {
   }
 }
 
+// [team] starts withholds the other robots' INITIAL_POSE_<robot> from every estimator: the
+// one-robot run of B starts at the origin, A's at its start, and the team plugin (which needs a
+// start to dead-reckon from) has no path for B; the effective config says which were given.
+TEST(TeamRun, StartsNamesTheRobotsWhoseStartIsGiven) {
+  const fs::path dir = scratchDir("team_run_starts");
+  writeTeamLog(dir / "team.lcmlog", twoRobots());
+  std::string config = teamConfig(dir / "team.lcmlog");
+  config.replace(config.find("robots = A B"), 12, "robots = A B\nstarts = A");
+  const std::string ini = writeFile(dir / "team.ini", config).string();
+  const auto printed = run(roamRun() + " " + ini + " --print-config");
+  ASSERT_EQ(printed.status, 0) << printed.output;
+  EXPECT_NE(printed.output.find("[team]\nrobots = A B\nstarts = A\n"), std::string::npos) << printed.output;
+  const auto result = run(roamRun() + " " + ini + " --no-progress");
+  ASSERT_EQ(result.status, 0) << result.output;
+  const Outputs outputs = readOutputs(dir / "result.lcmlog");
+  EXPECT_EQ(outputs.paths.at("TRAJECTORY_DR_B").x[0], 0.0);
+  EXPECT_EQ(outputs.paths.at("TRAJECTORY_DR_B").y[0], 0.0);
+  EXPECT_TRUE(outputs.paths.count("TRAJECTORY_TEAM_A"));
+  EXPECT_FALSE(outputs.paths.count("TRAJECTORY_TEAM_B"));
+  EXPECT_NEAR(outputs.paths.at("TRAJECTORY_DR_A").x[0], twoRobots().a.ground_truth.front().x_m, 1e-9);
+
+  for (const auto& [starts, message] : std::vector<std::pair<std::string, std::string>>{
+           {"A C", "[team] starts: 'C' is not one of the team's robots"},
+           {"A A", "[team] starts: 'A' is named twice"}}) {
+    std::string bad = teamConfig(dir / "team.lcmlog");
+    bad.replace(bad.find("robots = A B"), 12, "robots = A B\nstarts = " + starts);
+    const auto refused = run(roamRun() + " " + writeFile(dir / "bad.ini", bad).string() + " --print-config");
+    EXPECT_EQ(refused.status, 2) << starts;
+    EXPECT_NE(refused.output.find(message), std::string::npos) << refused.output;
+  }
+}
+
 // The SDK's self-check on a team's answer (roam/self_check.hpp, TeamSelfCheck), through roam-run.
 
 // A STATUS key starting with `prefix` whose value is 1 (a note), or "" if none.

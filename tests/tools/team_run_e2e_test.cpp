@@ -30,16 +30,18 @@ std::map<std::string, TeamFigures> teamRows(const std::string& csv) {
   return rows;
 }
 
-std::string teamConfig(const std::string& robots) {
-  return "[runtime]\ninput = team.lcmlog\noutput = result.lcmlog\n\n[team]\nrobots = " + robots +
+std::string teamConfig(const std::string& robots, const std::string& starts) {
+  return "[runtime]\ninput = team.lcmlog\noutput = result.lcmlog\n\n[team]\nrobots = " + robots + "\nstarts = " + starts +
          "\n\n[estimator.deadreckoning]\nplugin = deadreckoning\n\n[estimator.team_batch]\nplugin = spectral_batch\n"
          "anchor = start_pose\n";
 }
 
-std::map<std::string, TeamFigures> runTeam(const roam_test::ScratchDir& dir, const std::string& robots) {
-  dir.write("team.ini", teamConfig(robots));
+std::map<std::string, TeamFigures> runTeam(const roam_test::ScratchDir& dir, const std::string& robots,
+                                           const std::string& starts = "all", std::string* run_out = nullptr) {
+  dir.write("team.ini", teamConfig(robots, starts));
   const auto run = roam_test::runTool(roam_test::tool("roam-run") + " " + dir.file("team.ini") + " --no-progress");
   EXPECT_EQ(run.status, 0) << run.out;
+  if (run_out) *run_out = run.out;
   const auto eval = roam_test::runTool(roam_test::tool("roam-eval") + " " + dir.file("result.lcmlog") + " --format csv");
   EXPECT_EQ(eval.status, 0) << eval.out;
   return teamRows(eval.out);
@@ -60,6 +62,25 @@ TEST(TeamRunEndToEnd, ExactRangesRecoverEveryRobotsPath) {
   ASSERT_TRUE(rows.count("deadreckoning") && rows.count("team_batch"));
   EXPECT_GT(rows.at("deadreckoning").mean_m, 1.0);
   EXPECT_LT(rows.at("team_batch").max_m, 1e-6);
+}
+
+// The same team with robot A's start alone given ([team] starts = A): B and C are placed from
+// their ranges (to A and to the surveyed beacons) and solved with the rest, to the same
+// tolerance; the run says where each start was found.
+TEST(TeamRunEndToEnd, OnlyTheFirstStartGivenTheOthersAreFoundFromTheRanges) {
+  roam_test::ScratchDir dir;
+  const auto sim = roam_test::runTool(roam_test::tool("roam-sim") + " -o " + dir.file("team.lcmlog") +
+                                      " --robots 3 --seed 3 --steps 600 --odo-distance-scale 1.02 --gyro-bias 0.002"
+                                      " --robot-range-rate-hz 2");
+  ASSERT_EQ(sim.status, 0) << sim.out;
+  std::string out;
+  const auto rows = runTeam(dir, "A B C", "A", &out);
+  ASSERT_TRUE(rows.count("team_batch"));
+  EXPECT_LT(rows.at("team_batch").max_m, 1e-6);
+  for (const char* robot : {"B", "C"})
+    EXPECT_NE(out.find(std::string("robot ") + robot + " had no INITIAL_POSE_" + robot + ": its start was found from"),
+              std::string::npos) << out;
+  EXPECT_EQ(out.find("robot A had no INITIAL_POSE"), std::string::npos) << out;
 }
 
 // Noisy teams (3 % odometry distance noise, 0.01 rad heading noise per step, 0.1 m ranges) on three
