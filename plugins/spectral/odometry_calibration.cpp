@@ -76,7 +76,6 @@ CalibrationFit fitOdometryCalibration(const OdometryPath& path, const std::vecto
                                       double segment_s) {
   constexpr int kMinChunks = 3;
   constexpr int kMinChunksPerSegment = 4;  // a rate from fewer rotations is mostly noise
-  constexpr double kTukeyC = estimation::kTukey95;
   constexpr int kIterations = 10;
   CalibrationFit out;
   out.distance_scale = path.calibration.distance_scale;
@@ -121,7 +120,7 @@ CalibrationFit fitOdometryCalibration(const OdometryPath& path, const std::vecto
     const double scale = std::max(1.4826 * estimation::upperMedian(abs_normalised), 1e-12);
     double change = 0.0;
     for (int k = 0; k < K; ++k) {
-      const double u = normalised[k] / (kTukeyC * scale);
+      const double u = normalised[k] / (estimation::kTukey95 * scale);
       const double w = std::abs(u) < 1.0 ? (1.0 - u * u) * (1.0 - u * u) : 0.0;
       change = std::max(change, std::abs(w - robust[k]));
       robust[k] = w;

@@ -1,6 +1,7 @@
 // Fixed-interval smoother of the solved positions with the calibrated odometry (model:
 // odometry_smoother.hpp).
 #include "odometry_smoother.hpp"
+#include "roam/estimation/range_model.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -18,7 +19,6 @@ constexpr double kHeldHeadingWeight = 1e12;  // interior: the correction held at
 // Gauss-Newton passes with ranges: the solved path starts within decimetres of the truth, ranges
 // are metres long, so the linearisation error after the first pass is millimetres.
 constexpr int kRangeIterations = 3;
-constexpr double kTukeyC = 4.685;
 }  // namespace
 
 double spectralPositionSigma(double median_range_residual_m, double ranges_per_pose) {
@@ -74,7 +74,7 @@ void smoothWithOdometry(const OdometryPath& path, const std::vector<double>& hea
         const Vec2 from_beacon = (1.0 - f) * p[k] + f * p[k1] - m;
         const double distance_m = from_beacon.norm();
         if (!(distance_m > 1e-6)) continue;
-        const double t = (range.range_m - distance_m) / (kTukeyC * range_sigma_m);
+        const double t = (range.range_m - distance_m) / (estimation::kTukey95 * range_sigma_m);
         if (!(std::abs(t) < 1.0)) continue;
         const double w = (1.0 - t * t) * (1.0 - t * t) / (range_sigma_m * range_sigma_m);
         const Vec2 u = from_beacon / distance_m;

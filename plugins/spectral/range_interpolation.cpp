@@ -100,7 +100,6 @@ bool fitWindowModel(const Features& phi, const Eigen::VectorXd& target, const In
   constexpr double kHuberK = estimation::kHuber95;
   constexpr int kSubsetTrials = 50;
   constexpr uint32_t kSubsetSeed = 20130621u;
-  constexpr double kTukeyC = estimation::kTukey95;
   constexpr double kMinScale_m = 0.01;
   const int n = static_cast<int>(phi.cols());
   NormalEquations plain;
@@ -153,7 +152,7 @@ bool fitWindowModel(const Features& phi, const Eigen::VectorXd& target, const In
   };
   auto tukey = [](double scale_m) {
     return [scale_m](double e_m) {
-      const double u = e_m / (kTukeyC * scale_m);
+      const double u = e_m / (estimation::kTukey95 * scale_m);
       return u < 1.0 ? (1.0 - u * u) * (1.0 - u * u) : 0.0;
     };
   };
@@ -171,7 +170,7 @@ bool fitWindowModel(const Features& phi, const Eigen::VectorXd& target, const In
   {
     const double scale_ls_m = std::max(kMinScale_m, 1.4826 * (1.0 + 5.0 / std::max(1, n - p)) * best_median_m);
     // At most the configured range sigma: outliers inflate the LS residuals' own scale (masking).
-    const double cut_m = kTukeyC * std::min(scale_ls_m, config.range_sigma_m);
+    const double cut_m = estimation::kTukey95 * std::min(scale_ls_m, config.range_sigma_m);
     for (int i = 0; i < n && clean; ++i) clean = abs_residual_m(least_squares, i) < cut_m;
   }
   if (!clean && p > 0 && n > p) {

@@ -1,5 +1,6 @@
 // Ranges for the odometry smoother (model: smoother_ranges.hpp).
 #include "smoother_ranges.hpp"
+#include "roam/estimation/range_model.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +14,6 @@ namespace {
 
 constexpr int kAlternations = 4;
 constexpr int kGaussNewtonSteps = 10;
-constexpr double kTukeyC = 4.685;
 constexpr double kMinScale_m = 0.01;
 
 // m re-fitted to ranges (already (r - o) / kappa) from the positions `at`.
@@ -29,7 +29,7 @@ Eigen::Vector2d refitBeacon(Eigen::Vector2d m, const std::vector<Eigen::Vector2d
     Eigen::Matrix2d H = Eigen::Matrix2d::Zero();
     Eigen::Vector2d g = Eigen::Vector2d::Zero();
     for (size_t i = 0; i < range_m.size(); ++i) {
-      const double t = e[i] / (kTukeyC * scale_m);
+      const double t = e[i] / (estimation::kTukey95 * scale_m);
       const Eigen::Vector2d d = m - at[i];
       const double distance_m = d.norm();
       if (!(std::abs(t) < 1.0) || !(distance_m > 1e-6)) continue;

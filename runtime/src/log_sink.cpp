@@ -13,8 +13,6 @@ namespace roam {
 namespace runtime {
 namespace {
 
-constexpr uint32_t kLogSyncWord = 0xEDA1DA01u;
-
 void putBigEndian(std::vector<uint8_t>* out, uint64_t value, int bytes) {
   for (int i = bytes - 1; i >= 0; --i) out->push_back(static_cast<uint8_t>(value >> (8 * i)));
 }

@@ -21,6 +21,9 @@
 namespace roam {
 namespace runtime {
 
+// The LCM log format's sync word, first in every event.
+constexpr uint32_t kLogSyncWord = 0xEDA1DA01u;
+
 class LogSink : public Sink {
  public:
   // Throws std::runtime_error if the file cannot be created.

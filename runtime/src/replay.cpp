@@ -1,5 +1,7 @@
 #include "replay.hpp"
 
+#include "log_sink.hpp"
+
 #include <sys/stat.h>
 
 #include <chrono>
@@ -12,8 +14,6 @@
 namespace roam {
 namespace runtime {
 namespace {
-
-constexpr uint32_t kLogSyncWord = 0xEDA1DA01u;
 
 // The on-disk size of an event: sync word, event number, timestamp, two lengths, payload.
 int64_t eventBytes(const lcm::LogEvent& event) {

@@ -21,7 +21,7 @@ namespace {
 using test::deadReckoningError;
 using test::meanError;
 
-EkfConfig surveyedBeacons(int models) {
+EkfConfig bankConfig(int models) {
   EkfConfig config;
   config.anchor = EkfConfig::Anchor::kBeacons;
   config.translation_noise_models = models;
@@ -36,8 +36,8 @@ double trajectoryError(Estimator& estimator, const sim::SimRun& run, Path* traje
 
 // The single filter (the configured noise) and the bank of four on one run.
 struct Comparison {
-  EkfSlam single{surveyedBeacons(1)};
-  EkfBank bank{surveyedBeacons(4)};
+  EkfSlam single{bankConfig(1)};
+  EkfBank bank{bankConfig(4)};
   Path single_path, bank_path;
   double single_m = 0.0, bank_m = 0.0;
   explicit Comparison(const sim::SimRun& run)
@@ -88,9 +88,9 @@ TEST(EkfBank, ASlowRobotRangingEvery7sWithADriftingGyroChoosesTheBiasTwin) {
   sim::SimConfig world = sim::slowUwbWorld(301, 2400);
   world.range_rate_hz = 0.15;
   const sim::SimRun run = sim::simulate(world);
-  EkfConfig held_only = surveyedBeacons(4);
+  EkfConfig held_only = bankConfig(4);
   held_only.gyro_bias_twins = false;
-  EkfBank without(held_only), bank(surveyedBeacons(4));
+  EkfBank without(held_only), bank(bankConfig(4));
   Path path;
   const double without_m = trajectoryError(without, run, &path);
   const double bank_m = trajectoryError(bank, run, &path);
@@ -110,9 +110,9 @@ TEST(EkfBank, TwinsLeaveTheBankWhenTheRuleEstimatesTheBias) {
   // A range every 0.5 s (the drifting figure-8): the rule estimates the bias at the 20th range, the
   // twins go, and the answer is the bank's without them, bit for bit.
   const sim::SimRun run = sim::simulate(sim::gyroDriftFigure8World(201, 1500));
-  EkfConfig held_only = surveyedBeacons(4);
+  EkfConfig held_only = bankConfig(4);
   held_only.gyro_bias_twins = false;
-  EkfBank without(held_only), bank(surveyedBeacons(4));
+  EkfBank without(held_only), bank(bankConfig(4));
   Path a, b;
   trajectoryError(without, run, &a);
   trajectoryError(bank, run, &b);
@@ -144,7 +144,7 @@ TEST(EkfBank, OdometryAsNoisyAsConfiguredKeepsTheConfiguredModelBitForBit) {
 TEST(EkfBank, RepeatsBitForBit) {
   const sim::SimRun run = sim::simulate(sim::auvLikeWorld(4001, 500));
   Path first, second;
-  EkfBank a(surveyedBeacons(4)), b(surveyedBeacons(4));
+  EkfBank a(bankConfig(4)), b(bankConfig(4));
   trajectoryError(a, run, &first);
   trajectoryError(b, run, &second);
   expectBitIdentical(first, second);
@@ -154,7 +154,7 @@ TEST(EkfBank, ReportsItsModelPlusWhatItWasToldToReject) {
   // The shim rejects inputs before the estimator sees them (a range that is not finite): those
   // are the bank's own and stay counted on top of its model's counts.
   const sim::SimRun run = sim::simulate(sim::auvLikeWorld(4001, 100));
-  EkfBank bank(surveyedBeacons(4));
+  EkfBank bank(bankConfig(4));
   bank.rejectRange("not finite");
   bank.rejectOdometry("faster than max_speed_mps");
   test::feed(run, bank, true);
@@ -170,7 +170,7 @@ TEST(EkfBank, ReportsItsModelPlusWhatItWasToldToReject) {
 }
 
 TEST(EkfBank, RefusesAnEmptyBank) {
-  EXPECT_THROW(EkfBank(surveyedBeacons(0)), std::invalid_argument);
+  EXPECT_THROW(EkfBank(bankConfig(0)), std::invalid_argument);
 }
 
 }  // namespace

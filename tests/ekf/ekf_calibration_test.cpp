@@ -19,7 +19,7 @@ namespace roam {
 namespace ekf {
 namespace {
 
-constexpr double kExact = 1e-12;
+constexpr double kExactFilter = 1e-12;
 
 TEST(EkfCalibration, LateralStepWorkedByHand) {
   // Heading pi/2: forward 2 is +y, lateral 1 is -x: (1, 2) -> (1 - 1, 2 + 2) = (0, 4).
@@ -30,9 +30,9 @@ TEST(EkfCalibration, LateralStepWorkedByHand) {
   odometry.lateral_m = 1.0;
   odometry.delta_heading_rad = 0.25;
   filter.predict(odometry, 1.0, Eigen::Matrix3d::Zero());
-  EXPECT_NEAR(filter.mean()(0), 0.0, kExact);
-  EXPECT_NEAR(filter.mean()(1), 4.0, kExact);
-  EXPECT_NEAR(filter.mean()(2), M_PI / 2 + 0.25, kExact);
+  EXPECT_NEAR(filter.mean()(0), 0.0, kExactFilter);
+  EXPECT_NEAR(filter.mean()(1), 4.0, kExactFilter);
+  EXPECT_NEAR(filter.mean()(2), M_PI / 2 + 0.25, kExactFilter);
 }
 
 TEST(EkfCalibration, CalibrationStatesScaleAndTurnTheStep) {
@@ -46,12 +46,12 @@ TEST(EkfCalibration, CalibrationStatesScaleAndTurnTheStep) {
   odometry.forward_m = 2.0;
   odometry.delta_heading_rad = 0.3;
   filter.predict(odometry, 2.0, Eigen::Matrix3d::Zero());
-  EXPECT_NEAR(filter.mean()(0), 2.2, kExact);
-  EXPECT_NEAR(filter.mean()(1), 0.0, kExact);
-  EXPECT_NEAR(filter.mean()(2), 0.2, kExact);
+  EXPECT_NEAR(filter.mean()(0), 2.2, kExactFilter);
+  EXPECT_NEAR(filter.mean()(1), 0.0, kExactFilter);
+  EXPECT_NEAR(filter.mean()(2), 0.2, kExactFilter);
   // The heading's variance is the bias's times dt^2: 0.01^2 * 4; x's the scale's times 2^2.
-  EXPECT_NEAR(filter.covariance()(2, 2), 4.0 * 1e-4, kExact);
-  EXPECT_NEAR(filter.covariance()(0, 0), 4.0 * 0.05 * 0.05, kExact);
+  EXPECT_NEAR(filter.covariance()(2, 2), 4.0 * 1e-4, kExactFilter);
+  EXPECT_NEAR(filter.covariance()(0, 0), 4.0 * 0.05 * 0.05, kExactFilter);
 }
 
 TEST(EkfCalibration, StandstillLearnsTheBiasAndDoesNotTurn) {
@@ -107,7 +107,7 @@ TEST(EkfCalibration, ASlowVehicleTurningIsNotStandingStill) {
   ekf.finish();
   EXPECT_EQ(ekf.diagnostics().at("stationary_bias_updates"), 0.0);
   EXPECT_EQ(ekf.filter().headingRateBias(), 0.0);
-  EXPECT_NEAR(ekf.path().back().heading_rad, heading, kExact);
+  EXPECT_NEAR(ekf.path().back().heading_rad, heading, kExactFilter);
 }
 
 using test::deadReckoningError;

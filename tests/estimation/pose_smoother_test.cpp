@@ -15,7 +15,7 @@ namespace roam {
 namespace estimation {
 namespace {
 
-constexpr double kTolerance = 1e-12;
+constexpr double kSmootherTolerance = 1e-12;
 
 TEST(PoseSmoother, StandingStillHalvesTheInnovation) {
   // Increment 0: F = G = I, P_{1|0} = P0 + Q = 2 I, C = P0 P_{1|0}^-1 = I / 2.
@@ -28,11 +28,11 @@ TEST(PoseSmoother, StandingStillHalvesTheInnovation) {
   transitions[0].increment_covariance = Eigen::Matrix3d::Identity();
   const std::vector<PoseGaussian> smoothed = smoothPoseChain(filtered, transitions);
   ASSERT_EQ(smoothed.size(), 2u);
-  EXPECT_NEAR(smoothed[0].mean[0], 1.0, kTolerance);
-  EXPECT_NEAR(smoothed[0].mean[1], -2.0, kTolerance);
-  EXPECT_NEAR(smoothed[0].mean[2], 0.1, kTolerance);
-  EXPECT_TRUE(smoothed[0].covariance.isApprox(0.625 * Eigen::Matrix3d::Identity(), kTolerance));
-  EXPECT_TRUE(smoothed[1].mean.isApprox(filtered[1].mean, kTolerance));  // the last pose is its own
+  EXPECT_NEAR(smoothed[0].mean[0], 1.0, kSmootherTolerance);
+  EXPECT_NEAR(smoothed[0].mean[1], -2.0, kSmootherTolerance);
+  EXPECT_NEAR(smoothed[0].mean[2], 0.1, kSmootherTolerance);
+  EXPECT_TRUE(smoothed[0].covariance.isApprox(0.625 * Eigen::Matrix3d::Identity(), kSmootherTolerance));
+  EXPECT_TRUE(smoothed[1].mean.isApprox(filtered[1].mean, kSmootherTolerance));  // the last pose is its own
 }
 
 TEST(PoseSmoother, UsesTheFiltersOwnPrediction) {
@@ -47,9 +47,9 @@ TEST(PoseSmoother, UsesTheFiltersOwnPrediction) {
   transitions[0].has_predicted_mean = true;
   transitions[0].predicted_mean = Eigen::Vector3d(1.0, 0.0, 0.0);
   const std::vector<PoseGaussian> smoothed = smoothPoseChain(filtered, transitions);
-  EXPECT_NEAR(smoothed[0].mean[0], 0.5, kTolerance);
-  EXPECT_NEAR(smoothed[0].mean[1], -2.0, kTolerance);
-  EXPECT_NEAR(smoothed[0].mean[2], 0.1, kTolerance);
+  EXPECT_NEAR(smoothed[0].mean[0], 0.5, kSmootherTolerance);
+  EXPECT_NEAR(smoothed[0].mean[1], -2.0, kSmootherTolerance);
+  EXPECT_NEAR(smoothed[0].mean[2], 0.1, kSmootherTolerance);
 }
 
 TEST(PoseSmoother, EqualsConditioningTheJointGaussian) {
@@ -107,8 +107,8 @@ TEST(PoseSmoother, StopsAtFirstAndChecksSizes) {
   std::vector<PoseTransition> transitions(2);
   for (PoseTransition& t : transitions) t.increment_covariance = Eigen::Matrix3d::Identity();
   const std::vector<PoseGaussian> smoothed = smoothPoseChain(filtered, transitions, 1);
-  EXPECT_NEAR(smoothed[1].mean[0], 2.0, kTolerance);  // C = I / 2
-  EXPECT_NEAR(smoothed[0].mean[0], 0.0, kTolerance);  // before `first`: as filtered
+  EXPECT_NEAR(smoothed[1].mean[0], 2.0, kSmootherTolerance);  // C = I / 2
+  EXPECT_NEAR(smoothed[0].mean[0], 0.0, kSmootherTolerance);  // before `first`: as filtered
   transitions.pop_back();
   EXPECT_THROW(smoothPoseChain(filtered, transitions), std::invalid_argument);
 }

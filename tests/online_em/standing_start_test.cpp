@@ -34,11 +34,11 @@ sim::SimConfig standingStart(sim::SimConfig c, double bias_rad_s) {
   return c;
 }
 
-struct Result {
+struct StandingResult {
   double mean_m, bias_rad_s;
 };
 
-Result run(const Dataset& data, const std::string& anchor, const std::string& bias_spread,
+StandingResult run(const Dataset& data, const std::string& anchor, const std::string& bias_spread,
            const std::string& stationary_speed_mps = "0.01") {
   OnlineEmConfig config;
   setOptions(&config, addOnlineEmOptions,
@@ -53,9 +53,9 @@ Result run(const Dataset& data, const std::string& anchor, const std::string& bi
 TEST(OnlineEmStandingStart, BeaconsWithAFastDriftingGyro) {
   const Dataset data = sim::simulate(standingStart(sim::nlos30LawnMowerWorld(52, 1500), 0.01));
   // Measured: standing rule 0.212 m (b 0.01088), bias spread 0.334 m, neither 9.74 m.
-  const Result standing = run(data, "beacons", "0");
-  const Result spread = run(data, "beacons", "0.01", "0");
-  const Result neither = run(data, "beacons", "0", "0");
+  const StandingResult standing = run(data, "beacons", "0");
+  const StandingResult spread = run(data, "beacons", "0.01", "0");
+  const StandingResult neither = run(data, "beacons", "0", "0");
   std::printf("standing start, 30 %% NLOS, b 0.01, beacons: standing rule %.3f m (b %.5f); bias spread %.3f m (b %.5f); "
               "neither %.3f m (b %.5f)\n",
               standing.mean_m, standing.bias_rad_s, spread.mean_m, spread.bias_rad_s, neither.mean_m, neither.bias_rad_s);
@@ -74,7 +74,7 @@ TEST(OnlineEmStandingStart, StartPoseWithASlowDriftingGyro) {
   double sum_m = 0.0;
   for (int seed : {53, 54, 55, 56}) {
     const Dataset data = sim::simulate(standingStart(sim::gyroDriftFigure8World(seed, 3000), 0.002));
-    const Result start = run(data, "start_pose", "0.01");
+    const StandingResult start = run(data, "start_pose", "0.01");
     std::printf("standing start, figure-8, b 0.002, start pose, seed %d: %.3f m (b %.5f)\n", seed, start.mean_m,
                 start.bias_rad_s);
     sum_m += start.mean_m;

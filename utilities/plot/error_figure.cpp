@@ -10,20 +10,6 @@
 
 namespace roam {
 namespace plot {
-namespace {
-
-constexpr double kOuterPx = 10;
-constexpr double kHeadroom = 1.05;  // the error axis ends at least this much above the top curve
-constexpr double kSpikeRatio = 2.0;  // a curve whose max exceeds this times its p99 is clipped at p99
-constexpr double kOffScaleRatio = 5.0;  // see the y axis below
-
-double percentile99(std::vector<double> errors) {
-  if (errors.empty()) return 0.0;
-  std::sort(errors.begin(), errors.end());
-  return errors[static_cast<size_t>(std::floor(0.99 * static_cast<double>(errors.size() - 1)))];
-}
-
-}  // namespace
 
 std::string errorFigureSvg(const ResultLog& log, const std::vector<Series>& series, const FigureOptions& options) {
   const double width = options.width_px, height = options.height_px;
@@ -43,34 +29,21 @@ std::string errorFigureSvg(const ResultLog& log, const std::vector<Series>& seri
   }
   double t_end = 1.0, y_top = 0.0;
   for (const Pose& p : log.ground_truth) t_end = std::max(t_end, 1e-6 * static_cast<double>(p.utime - t0));
-  std::vector<double> max_error(series.size(), 0.0), top_of(series.size(), 0.0);
+  std::vector<double> max_error(series.size(), 0.0), top_of(series.size(), 0.0), means;
   for (size_t i = 0; i < series.size(); ++i) {
     std::vector<double> errors;
     for (const MatchedPosition& m : series[i].matched) {
       errors.push_back(m.error_m());
       t_end = std::max(t_end, 1e-6 * static_cast<double>(m.utime - t0));
     }
+    means.push_back(series[i].mean_error_m);
     if (errors.empty()) continue;
     max_error[i] = *std::max_element(errors.begin(), errors.end());
-    const double p99 = percentile99(errors);
-    top_of[i] = max_error[i] <= kSpikeRatio * p99 ? max_error[i] : p99;
+    top_of[i] = curveTop(errors);
   }
-  // The axis fits the estimators, not the baselines far above them: a series whose mean error
-  // is beyond kOffScaleRatio x the median of the series' means (dead reckoning drifting tens of
-  // metres) is drawn off the top and says so in the legend.
-  std::vector<double> means;
-  for (const auto& s : series)
-    if (std::isfinite(s.mean_error_m)) means.push_back(s.mean_error_m);
-  double median_mean = std::numeric_limits<double>::infinity();
-  if (!means.empty()) {
-    std::nth_element(means.begin(), means.begin() + means.size() / 2, means.end());
-    median_mean = means[means.size() / 2];
-  }
-  for (size_t i = 0; i < series.size(); ++i)
-    if (!(series[i].mean_error_m > kOffScaleRatio * median_mean)) y_top = std::max(y_top, top_of[i]);
-  if (!(y_top > 0) || !std::isfinite(y_top)) y_top = 1.0;
-  const double y_step = niceStep(kHeadroom * y_top, std::max(2, static_cast<int>(height / 70)));
-  y_top = std::ceil(kHeadroom * y_top / y_step) * y_step;
+  // The axis fits the estimators, not the baselines far above them (plot_axes.hpp).
+  double y_step = 1.0;
+  y_top = errorAxisTop(top_of, means, height, &y_step);
 
   std::vector<LegendItem> legend;
   for (size_t i = 0; i < series.size(); ++i) {

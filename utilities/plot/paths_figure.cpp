@@ -13,19 +13,6 @@ namespace roam {
 namespace plot {
 namespace {
 
-// Pixel margins around each panel's plotting frame: tick labels left and below, title above.
-constexpr double kOuterPx = 10;
-
-struct Box {
-  double x_lo = std::numeric_limits<double>::infinity(), x_hi = -std::numeric_limits<double>::infinity();
-  double y_lo = std::numeric_limits<double>::infinity(), y_hi = -std::numeric_limits<double>::infinity();
-  void add(double x, double y) {
-    if (!std::isfinite(x) || !std::isfinite(y)) return;
-    x_lo = std::min(x_lo, x); x_hi = std::max(x_hi, x);
-    y_lo = std::min(y_lo, y); y_hi = std::max(y_hi, y);
-  }
-  bool empty() const { return !(x_lo <= x_hi); }
-};
 
 Box window(const ResultLog& log, const std::vector<Series>& series) {
   Box core;

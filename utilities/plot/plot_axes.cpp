@@ -7,6 +7,33 @@
 namespace roam {
 namespace plot {
 
+double curveTop(std::vector<double> errors_m) {
+  constexpr double kSpikeRatio = 2.0;
+  if (errors_m.empty()) return 0.0;
+  std::sort(errors_m.begin(), errors_m.end());
+  const double p99 = errors_m[static_cast<size_t>(std::floor(0.99 * static_cast<double>(errors_m.size() - 1)))];
+  return errors_m.back() <= kSpikeRatio * p99 ? errors_m.back() : p99;
+}
+
+double errorAxisTop(const std::vector<double>& tops_m, const std::vector<double>& means_m, double height_px,
+                    double* step) {
+  constexpr double kHeadroom = 1.05, kOffScaleRatio = 5.0;
+  std::vector<double> finite;
+  for (double mean : means_m)
+    if (std::isfinite(mean)) finite.push_back(mean);
+  double median_mean = std::numeric_limits<double>::infinity();
+  if (!finite.empty()) {
+    std::nth_element(finite.begin(), finite.begin() + finite.size() / 2, finite.end());
+    median_mean = finite[finite.size() / 2];
+  }
+  double top = 0.0;
+  for (size_t i = 0; i < tops_m.size(); ++i)
+    if (!(means_m[i] > kOffScaleRatio * median_mean)) top = std::max(top, tops_m[i]);
+  if (!(top > 0) || !std::isfinite(top)) top = 1.0;
+  *step = niceStep(kHeadroom * top, std::max(2, static_cast<int>(height_px / 70)));
+  return std::ceil(kHeadroom * top / *step) * *step;
+}
+
 PanelGrid panelGrid(double x_lo, double x_hi, double y_lo, double y_hi, size_t panels, double width_px,
                     double height_px, double header_px, double outer_px) {
   // Room around each frame for its title, tick labels and scale bar.

@@ -2,6 +2,9 @@
 // labels and grid lines, and a metre scale bar.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -9,6 +12,31 @@
 
 namespace roam {
 namespace plot {
+
+// Pixel margin around a figure's frames: tick labels left and below, title above.
+constexpr double kOuterPx = 10;
+
+// The bounding box of the finite points added (empty until one is).
+struct Box {
+  double x_lo = std::numeric_limits<double>::infinity(), x_hi = -std::numeric_limits<double>::infinity();
+  double y_lo = std::numeric_limits<double>::infinity(), y_hi = -std::numeric_limits<double>::infinity();
+  void add(double x, double y) {
+    if (!std::isfinite(x) || !std::isfinite(y)) return;
+    x_lo = std::min(x_lo, x); x_hi = std::max(x_hi, x);
+    y_lo = std::min(y_lo, y); y_hi = std::max(y_hi, y);
+  }
+  bool empty() const { return !(x_lo <= x_hi); }
+};
+
+// The top of an error curve as the axis should show it: its largest error, or its 99th percentile
+// where the largest is a spike beyond twice that (clipped, said "off the top" in the legend).
+double curveTop(std::vector<double> errors_m);
+
+// An error figure's axis top: the largest of the series' tops, but for series whose mean error is
+// beyond five times the median of the means (dead reckoning drifting tens of metres: drawn off the
+// top), with 5 % headroom, rounded up to the tick step it returns in *step (height_px / 70 ticks).
+double errorAxisTop(const std::vector<double>& tops_m, const std::vector<double>& means_m, double height_px,
+                    double* step);
 
 // The smallest of 1, 2, 5 x 10^k that cuts `span` into at most `max_ticks` intervals (span > 0).
 double niceStep(double span, int max_ticks);

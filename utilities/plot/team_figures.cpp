@@ -17,21 +17,7 @@ namespace roam {
 namespace plot {
 namespace {
 
-// As paths_figure.cpp and error_figure.cpp.
-constexpr double kOuterPx = 10;
-constexpr double kHeadroom = 1.05, kSpikeRatio = 2.0, kOffScaleRatio = 5.0;
 const char* const kMapColour = "#333333";  // the team's map is the team's, not one robot's
-
-struct Box {
-  double x_lo = std::numeric_limits<double>::infinity(), x_hi = -std::numeric_limits<double>::infinity();
-  double y_lo = std::numeric_limits<double>::infinity(), y_hi = -std::numeric_limits<double>::infinity();
-  void add(double x, double y) {
-    if (!std::isfinite(x) || !std::isfinite(y)) return;
-    x_lo = std::min(x_lo, x); x_hi = std::max(x_hi, x);
-    y_lo = std::min(y_lo, y); y_hi = std::max(y_hi, y);
-  }
-  bool empty() const { return !(x_lo <= x_hi); }
-};
 
 // paths_figure.hpp's window over every robot's ground truth.
 Box window(const ResultLog& log, const std::vector<TeamSeries>& series) {
@@ -128,12 +114,6 @@ void drawTeamTruthMarks(SvgWriter& svg, const Frame& frame, const ResultLog& log
     id.anchor = near_right ? "end" : "start";
     svg.text(near_right ? c.x - 8 : c.x + 8, c.y - 6, std::to_string(b.id), id);
   }
-}
-
-double percentile99(std::vector<double> errors) {
-  if (errors.empty()) return 0.0;
-  std::sort(errors.begin(), errors.end());
-  return errors[static_cast<size_t>(std::floor(0.99 * static_cast<double>(errors.size() - 1)))];
 }
 
 }  // namespace
@@ -265,23 +245,13 @@ std::string teamErrorFigureSvg(const ResultLog& log, const std::vector<TeamSerie
       std::vector<double> errors;
       for (const MatchedPosition& m : r.matched) errors.push_back(m.error_m());
       if (errors.empty()) continue;
-      const double max = *std::max_element(errors.begin(), errors.end()), p99 = percentile99(errors);
-      max_error[i] = std::max(max_error[i], max);
-      top_of[i] = std::max(top_of[i], max <= kSpikeRatio * p99 ? max : p99);
+      max_error[i] = std::max(max_error[i], *std::max_element(errors.begin(), errors.end()));
+      top_of[i] = std::max(top_of[i], curveTop(errors));
     }
-    if (std::isfinite(series[i].mean_error_m)) means.push_back(series[i].mean_error_m);
+    means.push_back(series[i].mean_error_m);
   }
-  double median_mean = std::numeric_limits<double>::infinity();
-  if (!means.empty()) {
-    std::nth_element(means.begin(), means.begin() + means.size() / 2, means.end());
-    median_mean = means[means.size() / 2];
-  }
-  double y_top = 0.0;
-  for (size_t i = 0; i < series.size(); ++i)
-    if (!(series[i].mean_error_m > kOffScaleRatio * median_mean)) y_top = std::max(y_top, top_of[i]);
-  if (!(y_top > 0) || !std::isfinite(y_top)) y_top = 1.0;
-  const double y_step = niceStep(kHeadroom * y_top, std::max(2, static_cast<int>(height / 70)));
-  y_top = std::ceil(kHeadroom * y_top / y_step) * y_step;
+  double y_step = 1.0;
+  const double y_top = errorAxisTop(top_of, means, height, &y_step);
 
   std::vector<LegendItem> legend = robotsAndStyles(log, series, true);
   for (size_t i = 0; i < series.size(); ++i)
