@@ -91,6 +91,9 @@ struct TeamSolveOptions {
   double range_offset_prior_sigma_m = kRangeOffsetPriorSigma_m;
   int max_iterations = 200;
   double function_tolerance = 1e-10;
+  // The solves before the last only feed the noise factors' next estimate, which moves them by
+  // tens of percent a round: they stop at this relative cost change (Ceres' default).
+  double learning_function_tolerance = 1e-6;
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-10;
 };
