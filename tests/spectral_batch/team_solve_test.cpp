@@ -136,6 +136,16 @@ Path deadReckoning(const TeamRobot& robot) {
   return path;
 }
 
+// Exact data: calibration priors off (the truth is then a zero-cost state) and no noise rounds
+// (every square is zero: nothing to learn).
+TeamSolveOptions exactDataOptions() {
+  TeamSolveOptions options;
+  options.distance_scale_prior_sigma = 0.0;
+  options.heading_rate_bias_prior_sigma_rad_s = 0.0;
+  options.noise_rounds = 0;
+  return options;
+}
+
 // Odometry off only by each robot's calibration (distance scale 3 % and gyro bias of a few
 // mrad/s), ranges exact, starts known, calibration priors off: the truth with the true
 // calibration has every residual zero, so it is a global minimum. It is the only one: a zero
@@ -234,10 +244,7 @@ TEST(TeamSolve, PlacesABeaconTheSurveyLacksAndRecoversItExactly) {
       range.sigma_m = 0.1;
       input.robots[r].beacon_ranges.push_back(range);
     }
-  TeamSolveOptions options;
-  options.distance_scale_prior_sigma = 0.0;
-  options.heading_rate_bias_prior_sigma_rad_s = 0.0;
-  options.noise_rounds = 0;
+  TeamSolveOptions options = exactDataOptions();
   const TeamResult result = solveTeam(input, options);
   ASSERT_TRUE(result.summary.usable) << result.summary.report;
   EXPECT_EQ(result.summary.beacon_ranges_used, 225);
@@ -368,10 +375,7 @@ TEST(TeamSolve, RecoversExactPathsWithOnlyTheFirstStartKnown) {
     input.robots[r].start_known = false;
     input.robots[r].start.x_m = input.robots[r].start.y_m = input.robots[r].start.heading_rad = 0.0;
   }
-  TeamSolveOptions options;
-  options.distance_scale_prior_sigma = 0.0;
-  options.heading_rate_bias_prior_sigma_rad_s = 0.0;
-  options.noise_rounds = 0;
+  const TeamSolveOptions options = exactDataOptions();
   const TeamResult result = solveTeam(input, options);
   ASSERT_TRUE(result.summary.usable) << result.summary.report;
   EXPECT_EQ(result.starts[0].source, TeamStart::Source::kGiven);

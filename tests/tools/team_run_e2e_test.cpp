@@ -48,15 +48,22 @@ std::map<std::string, TeamFigures> runTeam(const roam_test::ScratchDir& dir, con
 }
 
 // Three robots, 600 steps each, exact ranges (to 4 beacons, and between robots at 2 Hz per pair);
+// odometry exact but for a calibration every robot shares: distances 2 % long, a gyro bias of
+// 0.002 rad/s.
+roam_test::ToolResult simulateExactTeam(const roam_test::ScratchDir& dir) {
+  return roam_test::runTool(roam_test::tool("roam-sim") + " -o " + dir.file("team.lcmlog") +
+                            " --robots 3 --seed 3 --steps 600 --odo-distance-scale 1.02 --gyro-bias 0.002"
+                            " --robot-range-rate-hz 2");
+}
+
+// Three robots, 600 steps each, exact ranges (to 4 beacons, and between robots at 2 Hz per pair);
 // the odometry exact but for a calibration every robot shares: distances 2 % long, a gyro bias of
 // 0.002 rad/s (dead reckoning ends metres off). Every robot's start is known, so the solve must
 // find each robot's calibration and with it every pose: the paths equal the truth to the
 // solver's tolerances (measured 8e-11 m at worst).
 TEST(TeamRunEndToEnd, ExactRangesRecoverEveryRobotsPath) {
   roam_test::ScratchDir dir;
-  const auto sim = roam_test::runTool(roam_test::tool("roam-sim") + " -o " + dir.file("team.lcmlog") +
-                                      " --robots 3 --seed 3 --steps 600 --odo-distance-scale 1.02 --gyro-bias 0.002"
-                                      " --robot-range-rate-hz 2");
+  const auto sim = simulateExactTeam(dir);
   ASSERT_EQ(sim.status, 0) << sim.out;
   const auto rows = runTeam(dir, "A B C");
   ASSERT_TRUE(rows.count("deadreckoning") && rows.count("team_batch"));
@@ -69,9 +76,7 @@ TEST(TeamRunEndToEnd, ExactRangesRecoverEveryRobotsPath) {
 // tolerance; the run says where each start was found.
 TEST(TeamRunEndToEnd, OnlyTheFirstStartGivenTheOthersAreFoundFromTheRanges) {
   roam_test::ScratchDir dir;
-  const auto sim = roam_test::runTool(roam_test::tool("roam-sim") + " -o " + dir.file("team.lcmlog") +
-                                      " --robots 3 --seed 3 --steps 600 --odo-distance-scale 1.02 --gyro-bias 0.002"
-                                      " --robot-range-rate-hz 2");
+  const auto sim = simulateExactTeam(dir);
   ASSERT_EQ(sim.status, 0) << sim.out;
   std::string out;
   const auto rows = runTeam(dir, "A B C", "A", &out);
