@@ -9,6 +9,7 @@
 #include "roam/estimation/median.hpp"
 #include "roam/estimation/multilateration.hpp"
 #include "roam/estimation/range_model.hpp"
+#include "roam/types.hpp"
 
 namespace roam {
 namespace estimation {
@@ -121,8 +122,6 @@ Profile profileAll(const std::vector<StartRangeObservation>& observations, const
   return out;
 }
 
-double wrap(double angle_rad) { return std::atan2(std::sin(angle_rad), std::cos(angle_rad)); }
-
 }  // namespace
 
 StartRegistration registerStart(const std::vector<StartRangeObservation>& observations,
@@ -154,7 +153,7 @@ StartRegistration registerStart(const std::vector<StartRangeObservation>& observ
   if (second.best < 0) return out;
   start = second.starts[second.best];
   out.cost = solve<3>(observations, f, config.max_iterations, &start, &information);
-  start.z() = wrap(start.z());
+  start.z() = wrapAngle(start.z());
   out.start = start;
   out.noise_factor = f;
   for (const auto& o : observations) out.inliers += std::abs(whitened(o, start, f)) <= 3.0 * kCauchy95 ? 1 : 0;
@@ -171,13 +170,13 @@ StartRegistration registerStart(const std::vector<StartRangeObservation>& observ
   for (int k = second.best + right + 1; k < second.best + n - left; ++k) {
     if (excess(k) < out.rival_excess) {
       out.rival_excess = excess(k);
-      out.rival_heading_rad = wrap(-kPi + grid_step_rad * k);
+      out.rival_heading_rad = wrapAngle(-kPi + grid_step_rad * k);
     }
   }
   out.heading_arc_rad = (left + right) * grid_step_rad;
   if (out.heading_arc_rad > config.max_heading_arc_rad) {
     out.rival_excess = 0.0;
-    out.rival_heading_rad = wrap(-kPi + grid_step_rad * (left >= right ? second.best - left : second.best + right));
+    out.rival_heading_rad = wrapAngle(-kPi + grid_step_rad * (left >= right ? second.best - left : second.best + right));
   }
   if (out.rival_excess < config.rival_chi2) {
     out.status = StartRegistration::Status::kAmbiguous;
