@@ -142,9 +142,11 @@ std::vector<Eigen::Matrix2Xd> pathCandidatesUpToSimilarity(const Eigen::MatrixXd
   D.col(7) = zn.row(1).transpose();
   D.col(8) = zn.row(2).transpose();
   D.col(9).setOnes();
-  Eigen::Matrix<double, 10, 10> gram = Eigen::Matrix<double, 10, 10>::Zero();
+  // Dynamic size (10 x 10 at run time): a fixed-size solver's unrolled templates took 30 s of this
+  // file's compile time.
+  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(10, 10);
   gram.selfadjointView<Eigen::Lower>().rankUpdate(D.transpose());
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 10, 10>> quadric(
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> quadric(
       gram.selfadjointView<Eigen::Lower>());
   if (!(quadric.eigenvalues()(1) > 1e-9 * quadric.eigenvalues()(9)))
     throw InsufficientData(
