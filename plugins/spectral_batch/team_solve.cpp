@@ -462,10 +462,7 @@ TeamResult solveTeam(const TeamInput& input, const TeamSolveOptions& options) {
         buildProblem(input, options, dt_s, robot_ranges, beacon_observations, factors, &loss, &poses, &calibration,
                      &beacons, beacon_surveyed, &range_calibration, result.starts, &blocks);
     ceres::Solver::Summary solve;
-    ceres::Solver::Options round_options = solver_options;
-    if (round < options.noise_rounds)
-      round_options.function_tolerance = std::max(options.function_tolerance, options.learning_function_tolerance);
-    ceres::Solve(round_options, problem.get(), &solve);
+    ceres::Solve(solver_options, problem.get(), &solve);
     if (round == 0) summary.initial_cost = solve.initial_cost;
     summary.final_cost = solve.final_cost;
     summary.iterations += solve.num_successful_steps + solve.num_unsuccessful_steps;
