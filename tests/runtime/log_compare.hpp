@@ -50,6 +50,24 @@ inline std::vector<LoggedEvent> readEvents(const std::string& path, const std::s
   return events;
 }
 
+// Copies the events of `source` within `seconds` of its first event's time to `target` (a cut of a
+// real log: the same channels, rates and messages, in less replay time). True if it wrote any.
+inline bool writeLogPrefix(const std::string& source, const std::string& target, double seconds) {
+  lcm::LogFile in(source, "r");
+  lcm::LogFile out(target, "w");
+  if (!in.good() || !out.good()) return false;
+  int64_t first = 0;
+  bool any = false;
+  for (const lcm::LogEvent* event = in.readNextEvent(); event != nullptr; event = in.readNextEvent()) {
+    if (!any) first = event->timestamp;
+    if (static_cast<double>(event->timestamp - first) > seconds * 1e6) break;
+    lcm::LogEvent copy = *event;
+    out.writeEvent(&copy);
+    any = true;
+  }
+  return any;
+}
+
 // "" if the two sequences are identical, else where they first differ.
 inline std::string firstDifference(const std::vector<LoggedEvent>& a, const std::vector<LoggedEvent>& b) {
   for (size_t i = 0; i < a.size() && i < b.size(); ++i) {
