@@ -17,8 +17,6 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
   using C = SpectralBatchConfig;
   o.add("init", &c->init, {{"spectral", C::Init::kSpectral}, {"deadreckoning", C::Init::kDeadReckoning}}, "initial guess: spectral | deadreckoning");
   o.add("anchor", &c->anchor, {{"start_pose", C::Anchor::kStartPose}, {"beacons", C::Anchor::kBeacons}}, "gauge: start_pose | beacons");
-  o.add("seed_heading_window_s", &c->seed_heading_window_s,
-        "init = spectral: seed headings from position chords of this length (0: spectral headings)").min(0.0);
   o.add("seed_heading_align_m", &c->seed_heading_align_m,
         "init = spectral: seed headings = odometry headings rotated onto the spectral positions over "
         "this much travel (0: spectral headings)").min(0.0);
@@ -46,13 +44,7 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
         "anchor = start_pose, sparse ranges: the odometry heading noise as the log states it, bias held at 0");
   o.add("distance_scale_sigma", &c->distance_scale_sigma, "prior sigma of the odometry distance scale").min(0.0, false);
   o.add("estimate_noise_scale", &c->estimate_noise_scale,
-        "widen the odometry and range noise by the residuals' RMS where the stated noise is too small");
-  o.add("estimate_range_noise_scale", &c->estimate_range_noise_scale,
-        "also widen the range noise by the inliers' RMS residual");
-  o.add("estimate_odometry_noise", &c->estimate_odometry_noise,
-        "final solve: odometry translation and heading noise by variance component estimation");
-  o.add("min_odometry_noise_scale", &c->min_odometry_noise_scale,
-        "estimate_odometry_noise: the narrowest odometry noise, as a fraction of the configured").min(0.0, false).max(1.0);
+        "widen the odometry noise by profile likelihood where the stated noise is too small");
   o.add("gauge", &c->gauge, {{"window", C::Gauge::kWindow}, {"pinned", C::Gauge::kPinned}},
         "anchor = start_pose: rotation gauge: the gauge_align_m window | pose 0 held at the start heading");
   o.add("range_offset_sigma_m", &c->range_offset_sigma_m, "prior sigma of the shared range offset (0: none)").min(0.0);

@@ -22,17 +22,12 @@ struct SpectralBatchConfig {
   // Gauge: start_pose fixes the first pose at INITIAL_POSE (SLAM with unknown beacons);
   // beacons fixes the surveyed beacons from BEACONS (the start pose then only seeds the path).
   Anchor anchor = Anchor::kStartPose;
-  // init = spectral: 0 (default) takes the spectral core's own headings (its rank-7 heading
-  // rows); > 0 replaces them by the direction of travel of the spectral positions over chords of
-  // this many seconds centred on each pose (a ~4 m chord at 1 m/s averages 0.3 m position noise
-  // down to ~0.1 rad).
-  double seed_heading_window_s = 0.0;
-  // init = spectral, seed_heading_window_s = 0: > 0 (default) replaces the spectral headings by
-  // the dead-reckoned heading plus the rotation aligning dead reckoning to the spectral positions
-  // over this many metres of travel around each pose (initial_guess.hpp). The spectral headings
-  // are arbitrary where the robot stands still (Plaza 1 starts so: ~90 deg off at pose 0), and a
-  // seed whose headings contradict its own positions and the odometry starts the solve in a wrong
-  // basin. 10 m: ~0.3 m position noise over ~10 m of chord gives ~0.02 rad, while odometry
+  // init = spectral: > 0 (default) replaces the spectral core's own headings (its rank-7 heading
+  // rows) by the dead-reckoned heading plus the rotation aligning dead reckoning to the spectral
+  // positions over this many metres of travel around each pose (initial_guess.hpp). The spectral
+  // headings are arbitrary where the robot stands still (Plaza 1 starts so: ~90 deg off at pose 0),
+  // and a seed whose headings contradict its own positions and the odometry starts the solve in a
+  // wrong basin. 10 m: ~0.3 m position noise over ~10 m of chord gives ~0.02 rad, while odometry
   // heading drifts ~0.01 rad/sqrt(m) * sqrt(5 m) ~ 0.02 rad inside the window. 0: spectral headings.
   double seed_heading_align_m = 10.0;
 
@@ -52,14 +47,10 @@ struct SpectralBatchConfig {
   // less on average). 0: the rotation the solve ends with (pose-0 heading or the seed's).
   double gauge_align_m = 50.0;
   // Which rotation gauge (anchor = start_pose, final solve): `window` (the gauge_align_m alignment
-  // above) or `pinned`: with estimate_odometry_noise, pose 0 is turned onto the start heading and
-  // held there while the noise is refined, so every odometry factor of the run, with the noise
-  // estimated from the data, decides the rotation (the maximum-likelihood gauge when the odometry
-  // noise model holds; see the README for where it does not). Without estimate_odometry_noise,
-  // `pinned` turns the final solution so that pose 0 has the start heading (rotation about pose 0
-  // is an exact symmetry of the cost, so this picks the gauge and costs one warm solve): 30 %
-  // NLOS seeds 301-310 mean 0.50 m against 0.72 m with `window`, 401-410 0.64 against 0.62, and
-  // Plaza 1 1.87 m (its odometry is ~0.1 rad off over the first 2-20 m).
+  // above) or `pinned`: the final solution is turned so that pose 0 has the start heading (rotation
+  // about pose 0 is an exact symmetry of the cost, so this picks the gauge and costs one warm
+  // solve): 30 % NLOS seeds 301-310 mean 0.50 m against 0.72 m with `window`, 401-410 0.64 against
+  // 0.62, and Plaza 1 1.87 m (its odometry is ~0.1 rad off over the first 2-20 m).
   Gauge gauge = Gauge::kWindow;
 
   // Final solve from a spectral seed (or with a scanned heading-rate bias): a second solve from
@@ -173,24 +164,12 @@ struct SpectralBatchConfig {
   // and the window. false: the wheel model everywhere.
   bool sparse_heading_as_stated = true;
   double distance_scale_sigma = 0.05;
-  // Noise scales estimated from the residuals: after a solve, the RMS whitened odometry residual
-  // and the RMS whitened residual of the range inliers (within 4 sigmas) should be ~1; where
-  // one is k > 1, every sigma of that group is widened by k and the solve repeated (up to 4
-  // times). The configured (or reported) noise is the floor: never narrowed. A log's stated noise
-  // is often its generator's setting, not the sensor's (GOATS: 2 cm per edge for odometry good to
-  // a metre). false: the configured noise as it is.
+  // Odometry noise scale estimated from the data: after a solve, every odometry sigma times
+  // k = 2, 4, ... 32 is tried, each a warm solve, while the Gaussian likelihood improves (a profile
+  // likelihood over k). The configured (or reported) noise is the floor: never narrowed. A log's
+  // stated noise is often its generator's setting, not the sensor's (GOATS: 2 cm per edge for
+  // odometry good to a metre). false: the configured noise as it is.
   bool estimate_noise_scale = true;
-  bool estimate_range_noise_scale = false;
-  // Final solve: the odometry noise (translation and heading separately) by variance component
-  // estimation: each group's sigmas times sqrt(squares / redundancy) until that ratio is 1
-  // (Foerstner 1979), between min_odometry_noise_scale and 32 times the configured noise. Unlike
-  // the profile likelihood above (which a smoother can always lower by narrowing the odometry),
-  // this may also narrow it: a log whose odometry is better than the configured wheel odometry
-  // holds its frame on the odometry. Off by default: with the window gauge it moves Plaza 1's
-  // 50 m alignment (0.35 -> 0.50 m), and with gauge = pinned it loses on drpath, nlos30 and
-  // goats16 (README, "Round 4").
-  bool estimate_odometry_noise = false;
-  double min_odometry_noise_scale = 0.1;
 
   // Per-beacon range offsets (on top of the shared one), each with a zero-mean prior of this
   // sigma: acoustic beacons and UWB anchors have their own delays (transponder turn-around,

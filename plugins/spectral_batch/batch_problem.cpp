@@ -9,7 +9,6 @@
 
 #include <Eigen/Cholesky>
 
-#include "batch_redundancy.hpp"
 #include "batch_residuals.hpp"
 #include "roam/estimation/motion_model.hpp"
 
@@ -69,23 +68,6 @@ ceres::LinearSolverType linearSolver(SpectralBatchConfig::LinearSolver solver) {
 
 // A range is an inlier within this many of its sigmas of the solution (Summary::range_inliers).
 constexpr double kInlierWindowSigmas = 4.0;
-
-// Redundancy numbers of the odometry rows (translation: rows 0 and 1 of each block, heading: row
-// 2) at the current state: see Summary and batch_redundancy.hpp.
-void odometryRedundancy(ceres::Problem& ceres_problem, const std::vector<ceres::ResidualBlockId>& odometry_blocks,
-                        Summary* summary) {
-  RedundancyGroups groups;
-  groups.block_sets = {odometry_blocks};
-  groups.group_of_row = {{0, 0, 1}};
-  groups.num_groups = 2;
-  const Redundancy redundancy = redundancyNumbers(ceres_problem, groups);
-  summary->odometry_translation_squares += redundancy.squares[0];
-  summary->odometry_heading_squares += redundancy.squares[1];
-  if (!redundancy.ok) return;
-  summary->odometry_translation_redundancy = redundancy.redundancy[0];
-  summary->odometry_heading_redundancy = redundancy.redundancy[1];
-  summary->redundancy_ok = true;
-}
 
 }  // namespace
 
@@ -159,7 +141,6 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     const Eigen::Matrix3d information = odometryCovariance(config, odometry, dt_s, problem.heading_as_stated).inverse();
     Eigen::Matrix3d sqrt_information =
         Eigen::Matrix3d(Eigen::LLT<Eigen::Matrix3d>(information).matrixU()) / problem.odometry_sigma_factor;
-    sqrt_information.row(2) /= problem.odometry_heading_sigma_factor;  // upper triangular: heading only
     odometry_blocks.push_back(ceres_problem.AddResidualBlock(
         OdometryResidual::create(Eigen::Vector3d(odometry.forward_m, odometry.lateral_m, odometry.delta_heading_rad),
                                  dt_s, sqrt_information),
@@ -362,10 +343,7 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     double raw_cost = 0.0;
     ceres_problem.EvaluateResidualBlock(id, false, &raw_cost, &residual, nullptr);  // the residual itself
     summary.range_cost += cost;
-    if (!robust || std::abs(residual) <= kInlierWindowSigmas) {
-      ++summary.range_inliers;
-      summary.range_inlier_squares += residual * residual;
-    }
+    if (!robust || std::abs(residual) <= kInlierWindowSigmas) ++summary.range_inliers;
   }
   summary.odometry_cost = summary.final_cost - summary.range_cost;
   for (ceres::ResidualBlockId id : odometry_blocks) {
@@ -374,10 +352,6 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     summary.odometry_squares += 2.0 * cost;
   }
   summary.odometry_residuals = 3 * static_cast<int>(odometry_blocks.size());
-  if (problem.compute_redundancy && !odometry_blocks.empty() && summary.usable) {
-    if (robust) loss.Reset(makeLoss(config.loss, final_scale).release(), ceres::TAKE_OWNERSHIP);
-    odometryRedundancy(ceres_problem, odometry_blocks, &summary);
-  }
   return summary;
 }
 

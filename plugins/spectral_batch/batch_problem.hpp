@@ -7,8 +7,6 @@
 // stages see nearly quadratic costs (a poor start is not down-weighted into a stall) and the last
 // uses the configured scale c. Gauge: the first pose held constant, and/or the beacons marked
 // fixed held constant. The calibration (scale, offset) is held constant unless estimated.
-// Optionally (compute_redundancy) the odometry's redundancy numbers at the solution, for variance
-// component estimation of its noise (Summary).
 #pragma once
 
 #include <Eigen/Core>
@@ -42,18 +40,13 @@ struct Problem {
   // gauge freedom (every residual is invariant under it when no beacon is fixed), so the solve
   // keeps the rotation of its initial guess.
   bool fix_first_heading = true;
-  // Every odometry sigma and every range sigma times these (noise scales estimated from the
-  // residuals where the stated noise is too small).
   // anchor = beacons: a prior on pose 0 from INITIAL_POSE (sigmas x, y, heading; 0: none).
   std::array<double, 3> start_prior_pose{0.0, 0.0, 0.0};
   std::array<double, 3> start_prior_sigma{0.0, 0.0, 0.0};
+  // Every odometry sigma and every range sigma times these (the odometry's estimated where the
+  // stated noise is too small, estimate_noise_scale; the plugin holds the range's at 1).
   double odometry_sigma_factor = 1.0;
   double range_sigma_factor = 1.0;
-  // The odometry heading sigma is further multiplied by this (1: the translation's factor alone).
-  double odometry_heading_sigma_factor = 1.0;
-  // After the solve, the odometry's redundancy numbers (see Summary), for variance component
-  // estimation of the odometry noise.
-  bool compute_redundancy = false;
   // sparse_heading_as_stated in force (batch_config.hpp): each step's heading noise as its
   // odometry message states it (odometryCovariance) and the heading-rate bias held at its value.
   bool heading_as_stated = false;
@@ -87,19 +80,8 @@ struct Summary {
   double odometry_cost = 0.0;
   double range_cost = 0.0;
   int range_inliers = 0;
-  double range_inlier_squares = 0.0;  // sum of the inliers' whitened residuals squared
   double odometry_squares = 0.0;      // sum of the odometry residuals squared (no priors)
   int odometry_residuals = 0;
-  // compute_redundancy: the odometry's whitened squares and redundancy numbers split into the
-  // translation rows (along, lateral) and the heading row. The redundancy of a group is
-  // n_g - tr(J_g N^-1 J_g^T) (N = J^T J at the solution, robust weights applied): the share of
-  // the problem's degrees of freedom left to that group's residuals, so that
-  // E[squares_g] = redundancy_g when the group's noise is stated right (Foerstner 1979). The trace
-  // is estimated with kRedundancyProbes Rademacher probes (Hutchinson), seeded: repeatable.
-  // redundancy_ok false: not computed (no odometry, or the factorisation failed).
-  bool redundancy_ok = false;
-  double odometry_translation_squares = 0.0, odometry_heading_squares = 0.0;
-  double odometry_translation_redundancy = 0.0, odometry_heading_redundancy = 0.0;
   std::string report;           // Ceres' brief reports, one line per stage
 };
 

@@ -25,27 +25,6 @@ std::vector<std::array<double, 3>> deadReckon(const std::array<double, 3>& start
   return poses;
 }
 
-void headingsFromChords(const std::vector<int64_t>& utime, double half_window_s, double min_chord_m,
-                        std::vector<std::array<double, 3>>* poses) {
-  std::vector<std::array<double, 3>>& p = *poses;
-  const size_t n = p.size();
-  if (n < 2 || utime.size() != n) return;
-  const int64_t half_us = static_cast<int64_t>(std::llround(half_window_s * 1e6));
-  size_t lo = 0, hi = 0;
-  double previous_rad = p[0][2];
-  for (size_t k = 0; k < n; ++k) {
-    while (utime[lo] < utime[k] - half_us) ++lo;
-    while (hi + 1 < n && utime[hi + 1] <= utime[k] + half_us) ++hi;
-    const double dx_m = p[hi][0] - p[lo][0];
-    const double dy_m = p[hi][1] - p[lo][1];
-    if (std::hypot(dx_m, dy_m) >= min_chord_m) {
-      const double chord_rad = std::atan2(dy_m, dx_m);
-      previous_rad += std::remainder(chord_rad - previous_rad, 2.0 * M_PI);
-    }
-    p[k][2] = previous_rad;
-  }
-}
-
 void headingsFromOdometryAlignment(const std::vector<Odometry>& odometry, double half_window_m,
                                    std::vector<std::array<double, 3>>* poses) {
   std::vector<std::array<double, 3>>& p = *poses;

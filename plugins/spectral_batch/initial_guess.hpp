@@ -7,7 +7,6 @@
 #pragma once
 
 #include <array>
-#include <cstdint>
 #include <vector>
 
 #include "roam/estimation/motion_model.hpp"
@@ -25,14 +24,6 @@ std::vector<std::array<double, 3>> deadReckon(const std::array<double, 3>& start
 // One step of dead reckoning from pose.
 std::array<double, 3> propagate(const std::array<double, 3>& pose, const Odometry& odometry, double dt_s = 0.0,
                                 const estimation::OdometryCalibration& calibration = {});
-
-// Headings of a path from its positions: heading_k = direction of the chord from the pose
-// half_window_s before k to the pose half_window_s after k (clamped to the path), so the noise of
-// each position is averaged over a chord of ~2 half_window_s of travel. Where the chord is
-// shorter than min_chord_m (the robot stands still) the previous heading is kept; before the
-// first long chord the given heading of pose 0 is kept. Headings are unwrapped.
-void headingsFromChords(const std::vector<int64_t>& utime, double half_window_s, double min_chord_m,
-                        std::vector<std::array<double, 3>>* poses);
 
 // Headings of a seed path made consistent with odometry: heading_k = dead-reckoned heading_k +
 // delta_k, where delta_k is the rotation that best aligns (least squares, centred) the

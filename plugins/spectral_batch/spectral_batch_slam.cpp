@@ -17,13 +17,8 @@ namespace roam {
 namespace spectral_batch {
 namespace {
 
-// A chord shorter than this speed times its window means the robot barely moved: no heading.
-constexpr double kMinSeedSpeed_mps = 0.1;
 // Odometry noise-scale search: up to 32 times the configured noise (2 % per metre -> 64 %).
 constexpr double kMaxOdometryNoiseScale = 32.0;
-// Variance component estimation of the odometry noise: at most this many re-solves (the scales
-// settle in 2-4 on the runs here; each round is a warm-started solve).
-constexpr int kMaxNoiseRounds = 6;
 
 // Thread CPU seconds (verbose: where a final solve's time goes).
 double threadCpu_s() {
@@ -158,10 +153,7 @@ std::vector<std::array<double, 3>> SpectralBatchSlam::initialPoses(bool final) {
       std::vector<std::array<double, 3>> poses;
       poses.reserve(num_poses);
       for (const Pose& pose : path) poses.push_back({pose.x_m, pose.y_m, pose.heading_rad});
-      if (config_.seed_heading_window_s > 0.0) {
-        spectral_batch::headingsFromChords(pose_utime_, 0.5 * config_.seed_heading_window_s,
-                                  0.5 * config_.seed_heading_window_s * kMinSeedSpeed_mps, &poses);
-      } else if (config_.seed_heading_align_m > 0.0) {
+      if (config_.seed_heading_align_m > 0.0) {
         spectral_batch::headingsFromOdometryAlignment(odometry_, 0.5 * config_.seed_heading_align_m, &poses);
       } else {
         // Unwrap the headings so each odometry residual starts from its small increment.
@@ -360,56 +352,6 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
   return out;
 }
 
-void SpectralBatchSlam::refineOdometryNoise(Candidate* candidate) {
-  spectral_batch::Problem& problem = candidate->problem;
-  spectral_batch::State& state = candidate->state;
-  const bool pin = config_.gauge == SpectralBatchConfig::Gauge::kPinned && config_.anchor == SpectralBatchConfig::Anchor::kStartPose &&
-                   problem.fix_first_pose;
-  if (pin && !state.poses.empty()) {
-    // Rotation about pose 0 changes no residual (no beacon fixed): turn the solution so that
-    // pose 0 has the start heading, then hold it there.
-    rotateAboutStart(&state, wrapAngle(start_pose_[2] - state.poses[0][2]));
-    problem.fix_first_heading = true;
-  }
-  // Variance component estimation: E[squares_g] = redundancy_g when group g's sigmas are right,
-  // so each is scaled by sqrt(squares_g / redundancy_g) and the problem re-solved (warm) until the
-  // scales move by under 5 %. Starts from the candidate's own solve (evaluated, not re-solved).
-  problem.compute_redundancy = true;
-  spectral_batch::Summary summary = spectral_batch::solve(config_, problem, &state, true);
-  const double floor = config_.min_odometry_noise_scale;
-  for (int round = 0; round < kMaxNoiseRounds && summary.usable && summary.redundancy_ok; ++round) {
-    const double translation = problem.odometry_sigma_factor;
-    const double heading = translation * problem.odometry_heading_sigma_factor;
-    auto scaled = [&](double factor, double squares, double redundancy) {
-      if (!(redundancy > 1.0)) return factor;  // the group is not observed: keep it
-      return std::clamp(factor * std::sqrt(squares / redundancy), floor, kMaxOdometryNoiseScale);
-    };
-    const double new_translation =
-        scaled(translation, summary.odometry_translation_squares, summary.odometry_translation_redundancy);
-    const double new_heading = scaled(heading, summary.odometry_heading_squares, summary.odometry_heading_redundancy);
-    if (config_.verbose)
-      std::cerr << "spectral_batch: odometry noise round " << round << ": translation squares "
-                << summary.odometry_translation_squares << " / redundancy " << summary.odometry_translation_redundancy
-                << ", heading " << summary.odometry_heading_squares << " / " << summary.odometry_heading_redundancy
-                << " -> scales " << new_translation << ", " << new_heading << "\n";
-    if (std::abs(std::log(new_translation / translation)) < 0.05 && std::abs(std::log(new_heading / heading)) < 0.05 &&
-        round > 0)
-      break;
-    problem.odometry_sigma_factor = new_translation;
-    problem.odometry_heading_sigma_factor = new_heading / new_translation;
-    spectral_batch::State trial_state = state;
-    spectral_batch::Summary trial = spectral_batch::solve(config_, problem, &trial_state);
-    if (!trial.usable) break;
-    trial.iterations += summary.iterations;
-    state = std::move(trial_state);
-    summary = trial;
-  }
-  problem.compute_redundancy = false;
-  if (summary.usable) candidate->summary = summary;
-  setDiagnostic("odometry_translation_noise_scale", problem.odometry_sigma_factor);
-  setDiagnostic("odometry_heading_noise_scale", problem.odometry_sigma_factor * problem.odometry_heading_sigma_factor);
-}
-
 double SpectralBatchSlam::costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const {
   spectral_batch::Problem problem = candidate.problem;
   spectral_batch::State state = candidate.state;
@@ -514,17 +456,16 @@ void SpectralBatchSlam::solveNow(bool final) {
     setDiagnostic("odometry_alone_cost", odometry_alone_cost_);
   }
   const spectral_batch::Summary checked = best.summary;  // the trust checks below judge this solve
-  if (final && config_.estimate_odometry_noise && best.summary.usable) refineOdometryNoise(&best);
   if (final && config_.anchor == SpectralBatchConfig::Anchor::kStartPose && best.summary.usable) {
     // With the heading as stated the rotation is the start heading carried along the odometry's
     // heading chain (the solve's own, pose 0 held): a window fit to dead-reckoned positions would
     // add their lateral wander (GOATS: ~1 m per 5 m step) to it.
     if (config_.gauge == SpectralBatchConfig::Gauge::kWindow && config_.gauge_align_m > 0.0 && !heading_as_stated_)
       alignRotationToOdometry(&best.state);
-    else if (config_.gauge == SpectralBatchConfig::Gauge::kPinned && !config_.estimate_odometry_noise)
+    else if (config_.gauge == SpectralBatchConfig::Gauge::kPinned)
       pinStartHeading(&best);
   }
-  lap("noise and gauge");
+  lap("gauge");
   if (config_.verbose) std::cerr << "spectral_batch: thread CPU:" << times.str() << "\n";
   noise_factors_ = factors;
   setDiagnostic("odometry_noise_scale", factors[0]);

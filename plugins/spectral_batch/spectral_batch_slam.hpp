@@ -110,13 +110,8 @@ class SpectralBatchSlam : public Estimator {
   bool inDoubt(const Candidate& first) const;
   // The candidate's cost (final loss) with these odometry and range noise scales.
   double costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const;
-  // Final solve: the odometry noise of the candidate (translation and heading scales) by variance
-  // component estimation, re-solving warm from its state until the scales settle; with
-  // pin_start_heading (anchor = start_pose) pose 0 is first turned onto the start heading (a
-  // gauge move) and held there.
-  void refineOdometryNoise(Candidate* candidate);
-  // gauge = pinned without estimate_odometry_noise: turn the solution so that pose 0 has the
-  // start heading and re-solve with it held (a dead-reckoning seed is solved so already).
+  // gauge = pinned: turn the solution so that pose 0 has the start heading and re-solve with it
+  // held (a dead-reckoning seed is solved so already).
   void pinStartHeading(Candidate* candidate);
   void solveNow(bool final);
   // Sets heading_as_stated_ from the ranges so far (sparse_heading_as_stated); final: with its note.
