@@ -3,9 +3,9 @@
 // they can place it (a range with a bearing places it at once). tryInitialise multilaterates it
 // by a consensus of range triples (roam/estimation/multilateration.hpp, inlier band
 // init_outlier_gate_sigmas x sr) once the ranging positions span enough angle seen from it
-// (init_min_spread_fraction) and, near a line (init_min_spread_m), once its mirror image across
-// that line is refuted (init_mirror_test); neverInitialisedReason names the check a landmark
-// never passed, for its rejected ranges.
+// (init_min_spread_fraction) and are spread by init_min_spread_m about their line (the mirror
+// ambiguity); neverInitialisedReason names the check a landmark never passed, for its rejected
+// ranges.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -20,55 +20,6 @@
 
 namespace roam {
 namespace online_em {
-
-namespace {
-
-// A multilaterated position from positions near a line (spread under init_min_spread_m) is taken
-// when its mirror image is refuted: the reflection across the positions' principal axis has a
-// robust misfit (squared residuals capped at the inlier band, in units of sigma = the band's
-// sigma band / gate with the dead-reckoned poses' variance added) above the solution's by gate^2,
-// a likelihood-ratio test at the significance of the inlier gate.
-bool mirrorRejected(const std::vector<std::array<double, 2>>& points, const std::vector<double>& ranges_m,
-                    const std::array<double, 2>& beacon_m, double band_m, double gate, double pose_variance_m2) {
-  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
-  for (const auto& p : points) centre += Eigen::Vector2d(p[0], p[1]);
-  centre /= static_cast<double>(points.size());
-  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
-  for (const auto& p : points) {
-    const Eigen::Vector2d d = Eigen::Vector2d(p[0], p[1]) - centre;
-    covariance += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(covariance);
-  const Eigen::Vector2d axis = eigen.eigenvectors().col(1);
-  const Eigen::Vector2d m(beacon_m[0], beacon_m[1]);
-  const Eigen::Vector2d d = m - centre;
-  const Eigen::Vector2d mirror = centre + 2.0 * d.dot(axis) * axis - d;
-  const double sigma_m = std::sqrt(band_m * band_m / (gate * gate) + pose_variance_m2);
-  auto cost = [&](const Eigen::Vector2d& x) {
-    double c = 0.0;
-    for (size_t j = 0; j < points.size(); ++j) {
-      const double e = ranges_m[j] - (x - Eigen::Vector2d(points[j][0], points[j][1])).norm();
-      c += std::min(e * e, band_m * band_m) / (sigma_m * sigma_m);
-    }
-    return c;
-  };
-  if (cost(mirror) - cost(m) < gate * gate) return false;
-  // And the position itself is determined to within the inlier band: the standard deviation of
-  // its worst direction, from the inlier ranges' information (unit direction vectors / sigma^2),
-  // is at most the band (a short baseline far from the beacon fits a biased range scale or
-  // offset by moving the position across it).
-  Eigen::Matrix2d information = Eigen::Matrix2d::Zero();
-  for (size_t j = 0; j < points.size(); ++j) {
-    const Eigen::Vector2d u = m - Eigen::Vector2d(points[j][0], points[j][1]);
-    const double r = u.norm();
-    if (!(r > 0.0) || std::abs(ranges_m[j] - r) > band_m) continue;
-    information += (u / r) * (u / r).transpose() / (sigma_m * sigma_m);
-  }
-  const double weakest = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(information).eigenvalues()[0];
-  return weakest > 0.0 && 1.0 / weakest <= band_m * band_m;
-}
-
-}  // namespace
 
 bool OnlineEmSlam::multilaterateLandmark(const std::vector<std::array<double, 2>>& points,
                                          const std::vector<double>& ranges_m, double sr,
@@ -112,32 +63,14 @@ void OnlineEmSlam::tryInitialise(int i) {
     // dead-reckoned positions); gate 0: the linear solution on all ranges.
     std::vector<std::array<double, 2>> points;
     for (const Eigen::Vector2d& p : positions) points.push_back({p.x(), p.y()});
-    // Below init_min_spread_m the position is taken once its mirror image is refuted
-    // (mirrorRejected; the consensus only: gate > 0).
     const double spread_m = estimation::positionSpread(points);
     landmark.failed_check = InitCheck::kNarrowAngle;
     if (spread_m < fraction_spread_m) return;
-    const double gate = config_.init_outlier_gate_sigmas;
     landmark.failed_check = InitCheck::kShortSpread;
-    if (spread_m < config_.init_min_spread_m && !(config_.init_mirror_test && gate > 0.0)) return;
+    if (spread_m < config_.init_min_spread_m) return;
     std::array<double, 2> beacon_m{0.0, 0.0};
-    const double band_m = std::max(1.0, gate * sr);
     landmark.failed_check = InitCheck::kNoConsensus;
     if (!multilaterateLandmark(points, ranges, sr, &beacon_m)) return;
-    if (spread_m < config_.init_min_spread_m) {
-      landmark.failed_check = InitCheck::kMirror;
-      // The ranges were taken from dead-reckoned mean poses: their residuals carry the cloud's
-      // position spread as well as the range noise (the largest variance of the cloud now).
-      const int n = config_.num_particles;
-      const Eigen::Vector2d mean(particles_.x_m.mean(), particles_.y_m.mean());
-      Eigen::Matrix2d cloud = Eigen::Matrix2d::Zero();
-      for (int k = 0; k < n; ++k) {
-        const Eigen::Vector2d d(particles_.x_m[k] - mean.x(), particles_.y_m[k] - mean.y());
-        cloud += d * d.transpose() / n;
-      }
-      const double cloud_variance_m2 = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cloud).eigenvalues()[1];
-      if (!mirrorRejected(points, ranges, beacon_m, band_m, gate, cloud_variance_m2)) return;
-    }
     position = Eigen::Vector2d(beacon_m[0], beacon_m[1]);
   }
   if (!position) return;
@@ -186,8 +119,6 @@ std::string OnlineEmSlam::neverInitialisedReason(InitCheck check) {
              "(init_min_spread_fraction)";
     case InitCheck::kShortSpread:
       return "landmark never initialised: its ranging positions lie too near a line (init_min_spread_m)";
-    case InitCheck::kMirror:
-      return "landmark never initialised: its position and its mirror image fit alike (init_mirror_test)";
     default:
       return "landmark never initialised: no position agrees with most of its ranges (init_outlier_gate_sigmas)";
   }

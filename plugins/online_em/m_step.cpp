@@ -202,7 +202,7 @@ void OnlineEmSlam::calibrationMStep() {
     const double s = h(0, 0) > 0.0 ? g[0] / h(0, 0) : kNaN;
     if (!std::isfinite(s)) return;
     setDistanceScale(s);
-    setHeadingRateBias(0.0);
+    calibration_.heading_rate_bias_rad_s = 0.0;
     heading_rate_bias_sigma_rad_s_ = kNaN;
     setDiagnostic("odometry_distance_scale", s);
     setDiagnostic("heading_rate_bias_rad_s", 0.0);
@@ -213,17 +213,11 @@ void OnlineEmSlam::calibrationMStep() {
   const Eigen::Vector2d x = ldlt.solve(g);
   if (!x.allFinite()) return;
   setDistanceScale(x[0]);
-  setHeadingRateBias(x[1]);
+  calibration_.heading_rate_bias_rad_s = x[1];
   heading_rate_bias_sigma_rad_s_ = std::sqrt(ldlt.solve(Eigen::Matrix2d::Identity())(1, 1));
   setDiagnostic("heading_rate_bias_sigma_rad_s", heading_rate_bias_sigma_rad_s_);
   setDiagnostic("odometry_distance_scale", x[0]);
   setDiagnostic("heading_rate_bias_rad_s", x[1]);
-}
-
-void OnlineEmSlam::setHeadingRateBias(double b_rad_s) {
-  // Each particle keeps its own bias b + beta_k: the deviations are re-expressed about the new b.
-  if (motion_.biasSpread()) particles_.bias_deviation_rad_s += calibration_.heading_rate_bias_rad_s - b_rad_s;
-  calibration_.heading_rate_bias_rad_s = b_rad_s;
 }
 
 void OnlineEmSlam::setDistanceScale(double s) {

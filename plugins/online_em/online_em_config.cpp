@@ -42,10 +42,6 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
               "correlation length (distance travelled) of the per-particle distance-scale deviation").min(0.0, false);
   options.add("heading_rate_bias_prior_sigma_rad_s", &c->heading_rate_bias_prior_sigma_rad_s,
               "prior sigma of the heading-rate bias around 0").min(0.0, false);
-  options.add("heading_rate_bias_particle_sigma_rad_s", &c->heading_rate_bias_particle_sigma_rad_s,
-              "per-particle heading-rate bias deviation sigma (rad/s; 0: off)").min(0.0);
-  options.add("heading_rate_bias_particle_time_s", &c->heading_rate_bias_particle_time_s,
-              "correlation time of the per-particle heading-rate bias deviation (0: constant per lineage)").min(0.0);
   options.add("heading_rate_bias_max_drift_rad", &c->heading_rate_bias_max_drift_rad,
               "fix the heading-rate bias at 0 if its prior turns the heading more than this between position fixes (0: always estimate)")
       .min(0.0);
@@ -71,8 +67,6 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
       .min(0.0);
   options.add("fallback_deadreckoning", &c->fallback_deadreckoning,
               "publish dead reckoning (with the reason) where the learned outlier weight ends at its bound");
-  options.add("frame_bias_significance_sigmas", &c->frame_bias_significance_sigmas,
-              "also correct the start frame when |bias| >= this many sigmas (0: off)").min(0.0);
   options.add("wheelbase_m", &c->wheelbase_m, "bicycle model wheelbase").min(0.0, false);
   options.add("speed_sigma_mps", &c->speed_sigma_mps, "bicycle model speed noise").min(0.0, false);
   options.add("steer_sigma_rad", &c->steer_sigma_rad, "bicycle model steering noise").min(0.0, false);
@@ -115,13 +109,10 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
   options.add("init_min_ranges", &c->init_min_ranges, "ranges before multilateration").min(3);
   options.add("init_outlier_gate_sigmas", &c->init_outlier_gate_sigmas,
               "multilateration inlier gate in range sigmas (0: least squares on all)").min(0.0);
-  options.add("init_mirror_test", &c->init_mirror_test,
-              "below init_min_spread_m, place a landmark once its mirror image is refuted and its position determined");
   options.add("init_window_solve", &c->init_window_solve,
               "start pose: solve the early window's path and map jointly when the map is first placed");
   options.add("init_window_block_s", &c->init_window_block_s,
               "window solve: heading-walk block length").min(0.0, false);
-  options.add("init_window_bias", &c->init_window_bias, "window solve: a heading-rate bias in the window");
   options.add("init_min_spread_fraction", &c->init_min_spread_fraction,
               "spread of the ranging positions as a fraction of the median range").min(0.0);
   options.add("init_min_spread_m", &c->init_min_spread_m, "spread of the ranging positions").min(0.0);

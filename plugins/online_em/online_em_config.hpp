@@ -54,7 +54,7 @@ struct OnlineEmConfig {
   //   late or never, and the drifting figure-8 at 20 Hz from the start pose landed at 1.13 m
   //   (with the share 0.31 m);
   // - longer, only where the ranges re-fix the heading often enough to select among the
-  //   particles' headings (heading_rate_bias_max_drift_rad's rule, as for the spreads below):
+  //   particles' headings (heading_rate_bias_max_drift_rad's rule, as for the scale spread below):
   //   a slow robot (1 s steps, a range every 2 s) whose gyro walks 0.0067 rad per step lost
   //   its path with 0.005 (start pose / beacons 3.41 / 3.91 m over ten seeds; 0.66 / 0.36 with
   //   the share). Where the ranges are too sparse for that (an AUV: a fix every 3 s or more) the
@@ -98,32 +98,6 @@ struct OnlineEmConfig {
            (anchor == Anchor::kBeacons || !estimate_range_scale);
   }
   double heading_rate_bias_prior_sigma_rad_s = 0.01;
-  // Per-particle heading-rate bias spread (calibrate_odometry, odometry model): each particle
-  // carries its own deviation beta_k (rad/s) from the learned b, an AR(1) process over time of
-  // stationary sigma the current uncertainty of b (the M-step's sigma_b, at most
-  // heading_rate_bias_particle_sigma_rad_s, which is also the spread drawn when it starts: the
-  // cloud spans the biases the prior allows, and less as b is learned) and correlation time
-  // heading_rate_bias_particle_time_s (0: constant per lineage), and
-  // turns with b + beta_k. Without it the cloud's heading spread is the per-step noise alone
-  // while the heading drifts by the unknown b t: a vehicle standing still for 45 s with a
-  // 0.01 rad/s gyro bias starts to move 0.45 rad off, ~6 sigma outside its cloud (the filter
-  // diverges until the bias is learned). With it the ranges select the lineages that turned
-  // with the right bias, and the M-step's b sees them; after each M-step beta_k is re-expressed
-  // about the new b. Where the bias is estimated (the observability rule below, and before its
-  // 20th range the same rule on the ranges so far). 0 = off. anchor = beacons only: the surveyed
-  // beacons fix the heading, so the ranges can tell the lineages' biases apart; from the start
-  // pose each lineage's bias turns the frame the first landmarks are placed in, and the ranges
-  // fit a turned map as well (standing-start synthetic, seeds 301-306: start pose drift
-  // figure-8 0.39 -> 0.58 m, 30 % NLOS 1.36 -> 4.04 m with it).
-  // Off by default for now (round 8): it fixes the standing start with surveyed beacons, but a
-  // few seeds of the sweep kinds get worse (nlos 304 0.25 -> 0.39 m, 404 0.22 -> 0.38, nlosw 408
-  // 0.27 -> 0.50, drift8 407 0.36 -> 0.68; Plaza 1 + 0.005 & 0.97 0.41 -> 0.60); README Round 8.
-  double heading_rate_bias_particle_sigma_rad_s = 0.0;
-  double heading_rate_bias_particle_time_s = 600.0;
-  bool biasSpreadActive() const {
-    return calibrate_odometry && heading_rate_bias_particle_sigma_rad_s > 0.0 && motion_model == MotionModel::kOdometry &&
-           anchor == Anchor::kBeacons;
-  }
   // Observability of the heading-rate bias (the EKF's gyro_bias_max_drift_rad, same rule and
   // value: estimation::BiasObservability): the ranges re-fix the heading about every three
   // position fixes; over that time the bias prior turns it by prior_sigma x 3 x (mean interval
@@ -201,13 +175,6 @@ struct OnlineEmConfig {
   // (since round 23): better than the plain backward pass on every synthetic beacons kind and
   // AUV kind, plaza1-drpath and plaza1-drift (README "Round 23").
   bool trajectory_repass = true;
-  // The frame correction (and so the re-run) also applies when |b| >= this many sigma_b (0: off,
-  // only the window's rotation against its heading noise counts). 3 fixes the synthetic
-  // figure-8 at 0.002-0.005 rad/s (1.2-2.5 m -> 0.4-0.6 m, seeds 401/402) where the short window
-  // hides the bias, but sigma_b is the complete-data one, too small on AUV runs without any
-  // bias: a spurious b passes and the start-pose path doubles (AUV seeds 301-313); Plaza 1 +
-  // 0.005 rad/s 1.26 -> 1.44 m. Off until sigma_b carries the particles' missing information.
-  double frame_bias_significance_sigmas = 0.0;
   // Bicycle model (paper Sec. 4.1): sigma_v (m/s), sigma_psi (rad), wheelbase B (m), and a
   // small heading jitter that makes the 2-D control noise a proper 3-D density for smoothing.
   double wheelbase_m = 1.5;
@@ -322,15 +289,6 @@ struct OnlineEmConfig {
   // degrees (0.05: ~3 deg) seen from the beacon. Plaza's 10-40 m ranges keep the 3 m floor;
   // an AUV 300 m from a beacon waits for 15 m of spread.
   double init_min_spread_fraction = 0.05;
-  // Below init_min_spread_m, place a landmark once the ranges refute its mirror image (a
-  // likelihood-ratio test at the inlier gate's significance, sigma = the gate's with the cloud's
-  // position variance) and determine its position to within the inlier band; the start frame's
-  // gate then also counts the heading the calibration turns by the (shorter) window's end.
-  // Off: on 30 % NLOS from the start pose it places the map ~50 s after the start instead of
-  // ~110 s (less dead-reckoning error in it: nlos 301-310 mean 0.96 -> 0.80 m, worst 2.28 ->
-  // 1.32), but plaza1-drpath's start pose goes 0.67 -> 1.48 m (its odometry heading is off near
-  // the start, and its UWB ranges 6 % long: a short baseline fits them by moving the beacon).
-  bool init_mirror_test = false;
   // anchor = start_pose, ranges dense (the heading-rate bias rule): when the early window closes
   // (every landmark seen so far placed), solve the window's path and map jointly (roam/estimation/window_solve.hpp:
   // the path's heading random walk in blocks of init_window_block_s with the shared wheel model's
@@ -342,10 +300,6 @@ struct OnlineEmConfig {
   bool init_window_solve = true;
   // 5 s at 1 m/s: the walk within a block moves the path ~5 cm, under the range noise.
   double init_window_block_s = 5.0;
-  // A heading-rate bias unknown in the window. Off: a vehicle standing still first (Plaza 1) makes
-  // b t a free rotation of the frame (Plaza 1 start pose 1.01 -> 4.05 m); the calibration's frame
-  // correction and re-run handle the bias.
-  bool init_window_bias = false;
   // Multilateration robust to outliers: every triple of ranges proposes a position; the one
   // with the most ranges within gate * sr (the range's sigma, or range_sigma_m; at least 1 m)
   // wins and is refined on them. 3 sigma: a Gaussian inlier passes with 99.7 %. (Widening the

@@ -69,7 +69,6 @@ void OnlineEmSlam::start(const Pose& pose) {
   particles_.y_m.setConstant(pose.y_m);
   particles_.heading_rad.setConstant(pose.heading_rad);
   particles_.scale_deviation.setZero();
-  particles_.bias_deviation_rad_s.setZero();
   standstill_.reset();
   weights_.setConstant(1.0 / config_.num_particles);
   setState(EstimatorState::kTracking);
@@ -200,16 +199,6 @@ void OnlineEmSlam::processOdometry(const Odometry& odometry) {
   // The heading noise of a long step shared out per second by the same rule (the particles can
   // carry more heading spread only where the ranges re-fix the heading; OnlineEmConfig).
   motion_.shareHeadingNoiseOverLongSteps(ranges_select);
-  // The bias spread by the same rule (b is fixed at 0 where it does not hold). Not while
-  // replaying the calibrated re-run: b is fixed at its learned value there.
-  motion_.enableBiasSpread(ranges_select && !replaying_);
-  motion_.setBiasSpreadSigma(heading_rate_bias_sigma_rad_s_);
-  if (motion_.biasSpread() && !bias_spread_drawn_) {
-    // The lineages' biases start from the prior's spread about b (the stationary distribution).
-    bias_spread_drawn_ = true;
-    std::normal_distribution<double> normal(0.0, config_.heading_rate_bias_particle_sigma_rad_s);
-    for (int k = 0; k < n; ++k) previous_.bias_deviation_rad_s[k] = normal(rng_);
-  }
   const bool standing = standingStill(&standstill_, odometry, dt_s);
   motion_.setControl(odometry, dt_s, calibration_, standing);
   // What the backward pass needs, only where it runs (~140 bytes a step).

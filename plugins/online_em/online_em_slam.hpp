@@ -66,11 +66,6 @@
 // beacons, or no range scale in theta) and the ranges are dense (the bias rule below, and before
 // its 20th range the same rule on the ranges so far).
 //
-// Per-particle heading-rate bias spread (heading_rate_bias_particle_sigma_rad_s, anchor = beacons,
-// off by default): each particle turns with b + beta_k (particle_motion.hpp), beta_k drawn from
-// the bias prior when the ranges become dense, an AR(1) about 0 with the M-step's current sigma_b
-// after; after each M-step beta_k is re-expressed about the new b.
-//
 // Heading-rate bias observability (heading_rate_bias_max_drift_rad, the EKF's rule): b is
 // held at 0 until the 20th range, then estimated only if its prior would turn the heading by
 // at most that much over three mean range intervals; otherwise fixed at 0 (s alone in the
@@ -187,7 +182,7 @@ class OnlineEmSlam : public Estimator {
 
  private:
   // The multilateration checks a start-pose landmark must pass (tryInitialise), each with its key.
-  enum class InitCheck { kTooFew, kNarrowAngle, kShortSpread, kNoConsensus, kMirror };
+  enum class InitCheck { kTooFew, kNarrowAngle, kShortSpread, kNoConsensus };
   static std::string neverInitialisedReason(InitCheck check);
   struct Landmark {
     int id = 0;
@@ -240,11 +235,9 @@ class OnlineEmSlam : public Estimator {
   void mixtureMStep();
   void calibrationMStep();
   void setDistanceScale(double s);
-  void setHeadingRateBias(double b_rad_s);
-  bool bias_spread_drawn_ = false;  // the per-particle bias deviations drawn from their prior
   void correctFrame();
-  // |b| >= k sigma_b (k > 0; false while sigma_b is unknown): frame_bias_significance_sigmas,
-  // rerun_end_bias_sigmas.
+  // |b| >= k sigma_b (k > 0; false while sigma_b is unknown): rerun_end_bias_sigmas, and the
+  // bias retry's test (dead_reckoning_fallback.cpp).
   bool biasSignificant(double k_sigmas) const;
   void applyFrameMotion(double angle_rad, const Eigen::Vector2d& translation_m);
   void rerun();

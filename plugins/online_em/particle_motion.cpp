@@ -2,16 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
 namespace roam {
 namespace online_em {
-namespace {
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
-}  // namespace
 
 double headingSigma_rad(const OnlineEmConfig& config, double dt_s, bool share_long_steps) {
   // (utime differences in seconds round: 200000 us is 0.19999999999999998 s, a whole step)
@@ -42,10 +38,9 @@ void ParticleMotion::setControl(const Odometry& odometry, double dt_s,
   if (!bicycle_) {
     raw_ = odometry;
     dt_s_ = dt_s;
+    // Standing still the particles do not turn; the calibration statistic keeps J = (0, -dt)
+    // and the reported turn, so a stand observes b.
     increment_ = estimation::calibratedIncrement(odometry, dt_s, calibration, standing_still);
-    // Standing still the particles do not turn, their own bias deviation included; the
-    // calibration statistic keeps J = (0, -dt) and the reported turn, so a stand observes b.
-    bias_dt_s_ = standing_still ? 0.0 : dt_s;
     scale_spread_ = scaleSpread();
     if (scale_spread_) {
       // Correlation over the distance travelled: a = exp(-|q_uv| / L).
@@ -54,18 +49,6 @@ void ParticleMotion::setControl(const Odometry& odometry, double dt_s,
     } else {
       scale_ar_ = 1.0;
       scale_innovation_sigma_ = 0.0;
-    }
-    bias_spread_ = biasSpread();
-    if (bias_spread_) {
-      // Time 0: constant per lineage (a = 1, no innovation).
-      const double time_s = config_.heading_rate_bias_particle_time_s;
-      bias_ar_ = time_s > 0.0 ? std::exp(-std::max(dt_s, 0.0) / time_s) : 1.0;
-      const double sigma = std::isfinite(bias_sigma_rad_s_) ? std::min(bias_sigma_rad_s_, config_.heading_rate_bias_particle_sigma_rad_s)
-                                                            : config_.heading_rate_bias_particle_sigma_rad_s;
-      bias_innovation_sigma_rad_s_ = std::sqrt(1.0 - bias_ar_ * bias_ar_) * sigma;
-    } else {
-      bias_ar_ = 1.0;
-      bias_innovation_sigma_rad_s_ = 0.0;
     }
     Eigen::Matrix3d covariance = noiseCovariance(odometry, dt_s);
     const Eigen::Vector3d scale(translation_noise_scale_, translation_noise_scale_, 1.0);
@@ -105,13 +88,6 @@ void ParticleMotion::sample(const ParticlePoses& previous, int from, ParticlePos
     } else {
       next->scale_deviation[to] = 0.0;
     }
-    if (bias_spread_) {
-      const double beta = bias_ar_ * previous.bias_deviation_rad_s[from] + bias_innovation_sigma_rad_s_ * normal(rng);
-      next->bias_deviation_rad_s[to] = beta;
-      increment[2] -= beta * bias_dt_s_;
-    } else {
-      next->bias_deviation_rad_s[to] = 0.0;
-    }
     increment += noise_factor_ * white;
     const double pose[3] = {x, y, th};
     double out[3];
@@ -144,17 +120,11 @@ void ParticleMotion::logKernel(const ParticlePoses& previous, const ParticlePose
       const Eigen::ArrayXd dy = next.y_m - previous.y_m[l];
       const Eigen::ArrayXd e_f = c * dx + s * dy - factor * increment_[0];
       const Eigen::ArrayXd e_l = c * dy - s * dx - factor * increment_[1];
-      Eigen::ArrayXd e_h = next.heading_rad - previous.heading_rad[l] - increment_[2];
-      if (bias_spread_) e_h += next.bias_deviation_rad_s * bias_dt_s_;
+      const Eigen::ArrayXd e_h = next.heading_rad - previous.heading_rad[l] - increment_[2];
       Eigen::ArrayXd quadratic = w(0, 0) * e_f.square() + w(1, 1) * e_l.square() + w(2, 2) * e_h.square() +
                                  2.0 * (w(0, 1) * e_f * e_l + w(0, 2) * e_f * e_h + w(1, 2) * e_l * e_h);
       if (spread && scale_innovation_sigma_ > 0.0)
         quadratic += ((next.scale_deviation - scale_ar_ * previous.scale_deviation[l]) / scale_innovation_sigma_).square();
-      if (bias_spread_ && bias_innovation_sigma_rad_s_ > 0.0)
-        quadratic += ((next.bias_deviation_rad_s - bias_ar_ * previous.bias_deviation_rad_s[l]) / bias_innovation_sigma_rad_s_).square();
-      else if (bias_spread_)  // constant per lineage: only an ancestor with the same deviation
-        for (int k = 0; k < n_next; ++k)
-          if (next.bias_deviation_rad_s[k] != previous.bias_deviation_rad_s[l]) quadratic[k] = kInfinity;
       log_kernel->col(l) = (log_weight[l] - 0.5 * quadratic).matrix();
     }
     return;

@@ -14,9 +14,6 @@
 //   d_t = a d_{t-1} + sqrt(1 - a^2) sigma_d e_d, a = exp(-|q_uv| / distance_scale_particle_length_m)
 //   (correlated over the distance travelled; no innovation while standing still: no e_d term), and the
 //   translation part of q is multiplied by (1 + d_t); the density adds -1/2 e_d^2 to log m.
-//   Per-particle bias deviation beta (heading_rate_bias_particle_sigma_rad_s > 0): the state also holds
-//   beta, beta_t = a beta_{t-1} + sqrt(1 - a^2) sigma_beta e_beta, a = exp(-dt / heading_rate_bias_particle_time_s),
-//   and the turn of q is w - (b + beta_t) dt (0 standing still); the density adds -1/2 e_beta^2 to log m.
 //   Calibration statistic (odometry_calibration.hpp): e is linear in (s, b),
 //     e = z - J (s, b),  z = (R(th)^T (p_t - p), th_t - th - w),  J = [[u, 0], [v, 0], [0, -dt]]
 //   (standing still too: the particles do not turn, so the step observes w = b dt).
@@ -40,16 +37,14 @@ namespace roam {
 namespace online_em {
 
 // Particle poses as structure-of-arrays (world frame; headings unwrapped, continuous).
-// scale_deviation: the particle's own fractional distance-scale deviation d (distance_scale_particle_sigma);
-// bias_deviation_rad_s: its own heading-rate bias deviation beta (heading_rate_bias_particle_sigma_rad_s).
+// scale_deviation: the particle's own fractional distance-scale deviation d (distance_scale_particle_sigma).
 struct ParticlePoses {
-  Eigen::ArrayXd x_m, y_m, heading_rad, scale_deviation, bias_deviation_rad_s;
+  Eigen::ArrayXd x_m, y_m, heading_rad, scale_deviation;
   void resize(int n) {
     x_m.resize(n);
     y_m.resize(n);
     heading_rad.resize(n);
     scale_deviation = Eigen::ArrayXd::Zero(n);
-    bias_deviation_rad_s = Eigen::ArrayXd::Zero(n);
   }
   int size() const { return static_cast<int>(x_m.size()); }
 };
@@ -82,12 +77,6 @@ class ParticleMotion {
   // dense enough to select among the particles' scales).
   void enableScaleSpread(bool enabled) { scale_spread_enabled_ = enabled; }
   bool scaleSpread() const { return config_.scaleSpreadActive() && scale_spread_enabled_; }
-  // The same for the per-particle heading-rate bias deviation (OnlineEmConfig::biasSpreadActive).
-  void enableBiasSpread(bool enabled) { bias_spread_enabled_ = enabled; }
-  // The stationary sigma of the bias deviation from the next setControl on (rad/s; the current
-  // uncertainty of b, at most heading_rate_bias_particle_sigma_rad_s).
-  void setBiasSpreadSigma(double sigma_rad_s) { bias_sigma_rad_s_ = sigma_rad_s; }
-  bool biasSpread() const { return config_.biasSpreadActive() && bias_spread_enabled_; }
   // The step's calibrated increment and its white-noise covariance (odometry model; after setControl).
   const Eigen::Vector3d& increment() const { return increment_; }
   const Eigen::Matrix3d& incrementCovariance() const { return covariance_; }
@@ -116,7 +105,6 @@ class ParticleMotion {
   // (sampling) and information matrix (density).
   Odometry raw_;
   double dt_s_ = 0.0;
-  double bias_dt_s_ = 0.0;  // dt, or 0 on a step the vehicle stood still through
   Eigen::Vector3d increment_ = Eigen::Vector3d::Zero();
   Eigen::Matrix3d noise_factor_ = Eigen::Matrix3d::Zero(), information_ = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d covariance_ = Eigen::Matrix3d::Zero();
@@ -126,9 +114,6 @@ class ParticleMotion {
   // Per-particle scale deviation: AR(1) coefficient a and innovation sigma (0: off).
   bool scale_spread_ = false, scale_spread_enabled_ = false;
   double scale_ar_ = 1.0, scale_innovation_sigma_ = 0.0;
-  // Per-particle bias deviation: AR(1) coefficient and innovation sigma (rad/s) over the step.
-  bool bias_spread_ = false, bias_spread_enabled_ = false;
-  double bias_ar_ = 1.0, bias_innovation_sigma_rad_s_ = 0.0, bias_sigma_rad_s_ = kNaN;
 };
 
 }  // namespace online_em

@@ -55,13 +55,6 @@ void OnlineEmSlam::correctFrame() {
   Eigen::Vector2d translation_m = mean_b - Eigen::Rotation2Dd(angle_rad) * mean_a;
   // Significant only beyond twice the heading uncertainty the window's own noise gives the
   // frame (sigma_h sqrt(steps)); below it the frame stays where the data put it.
-  // Or (frame_bias_significance_sigmas k > 0) when the bias itself is significant, |b| >= k sigma_b:
-  // a bias of 0.002-0.005 rad/s turns a short window by less than that noise, yet rotates the
-  // whole map over the run.
-  const bool bias_significant = biasSignificant(config_.frame_bias_significance_sigmas);
-  // The heading the calibration turns by the window's end counts as well: the landmarks were
-  // placed from the whole window, and a window closed early (a landmark placed once its mirror is
-  // refuted) turns by b T while its least-squares rotation is only about b T / 2.
   // The window's heading noise under the shared wheel-odometry model (as the early window solve's
   // walk): per metre driven and per turn, a small per-step floor, so standing still before the
   // first metre (Plaza 1: ~45 s) adds almost none, where a per-step sigma counted every step.
@@ -70,8 +63,7 @@ void OnlineEmSlam::correctFrame() {
     heading_variance_rad2 += estimation::wheelHeadingVariance_rad2(
         std::hypot(odometry.forward_m, odometry.lateral_m), odometry.delta_heading_rad, estimation::WheelHeadingNoise{});
   const double heading_noise_rad = 2.0 * std::sqrt(heading_variance_rad2);
-  const double end_turn_rad = std::remainder(b.z() - a.z(), 2.0 * M_PI);
-  if (!bias_significant && std::abs(angle_rad) < heading_noise_rad && (!config_.init_mirror_test || std::abs(end_turn_rad) < heading_noise_rad)) {
+  if (std::abs(angle_rad) < heading_noise_rad) {
     angle_rad = 0.0;
     translation_m.setZero();
   } else if (recording_ && heading_rate_bias_sigma_rad_s_ <
@@ -219,8 +211,6 @@ void OnlineEmSlam::solveEarlyWindow() {
     problem.heading_variance_rad2.push_back(estimation::wheelHeadingVariance_rad2(
         std::hypot(odometry.forward_m, odometry.lateral_m), odometry.delta_heading_rad, estimation::WheelHeadingNoise{}));
   problem.block_s = config_.init_window_block_s;
-  const bool calibrate = config_.calibrate_odometry && config_.motion_model == OnlineEmConfig::MotionModel::kOdometry;
-  if (calibrate && config_.init_window_bias) problem.bias_prior_sigma_rad_s = config_.heading_rate_bias_prior_sigma_rad_s;
   // The filter's mixture: inlier N(0, (sr sigma0)^2) with weight w0, outlier uniform over the
   // ranges' span (or the wide Gaussian).
   const bool uniform = config_.outlier_model == OnlineEmConfig::OutlierModel::kUniform && max_range_m_ > 0.0;
@@ -241,9 +231,9 @@ void OnlineEmSlam::solveEarlyWindow() {
   if (!solution.solved) return;
   // Applied only where the ranges refute the dead-reckoned window: the same solve with the path
   // held (landmarks and range scale free) against it, a likelihood-ratio test at the inlier gate's
-  // significance (twice the log-posterior gain >= gate^2, as the mirror test): on Plaza 1 the
-  // gain is 6-8 (its odometry is good to a metre over the window, its ranges carry errors the
-  // model has not), on the 30 % NLOS runs 2-141 (the bad seeds 20-141).
+  // significance (twice the log-posterior gain >= gate^2): on Plaza 1 the gain is 6-8 (its
+  // odometry is good to a metre over the window, its ranges carry errors the model has not), on
+  // the 30 % NLOS runs 2-141 (the bad seeds 20-141).
   const WindowSolution dead_reckoned = solveWindow(estimation::withPathHeld(problem));
   const double gain = dead_reckoned.solved ? 2.0 * (solution.log_posterior - dead_reckoned.log_posterior) : 0.0;
   setDiagnostic("window_solve_gain", gain);
@@ -295,9 +285,6 @@ void OnlineEmSlam::solveEarlyWindow() {
     statistics_.middleCols(kStatSize * i, kStatSize).rowwise() = sums[a] / counts[a];
     landmarks_[i].count = counts[a];
   }
-  // The window is now as if dead-reckoned with the window's bias on top.
-  window_calibration_.heading_rate_bias_rad_s += solution.bias_rad_s;
-  setDiagnostic("window_solve_bias_rad_s", solution.bias_rad_s);
   setDiagnostic("window_solve_turn_rad", turn_rad);
   setDiagnostic("window_solve_turn_sigma_rad", solution.end_turn_sigma_rad);
   setDiagnostic("window_solve_range_scale", solution.range_scale);
