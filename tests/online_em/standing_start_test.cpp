@@ -37,7 +37,7 @@ struct StandingResult {
   double mean_m, bias_rad_s;
 };
 
-StandingResult run(const Dataset& data, const std::string& anchor, const std::string& stationary_speed_mps = "0.01") {
+StandingResult runStanding(const Dataset& data, const std::string& anchor, const std::string& stationary_speed_mps = "0.01") {
   OnlineEmConfig config;
   setOptions(&config, addOnlineEmOptions, {{"anchor", anchor}, {"stationary_speed_mps", stationary_speed_mps}});
   OnlineEmSlam slam(config);
@@ -48,8 +48,8 @@ StandingResult run(const Dataset& data, const std::string& anchor, const std::st
 TEST(OnlineEmStandingStart, BeaconsWithAFastDriftingGyro) {
   const Dataset data = sim::simulate(standingStart(sim::nlos30LawnMowerWorld(52, 1500), 0.01));
   // Measured: standing rule 0.212 m (b 0.01088), without it 9.74 m.
-  const StandingResult standing = run(data, "beacons");
-  const StandingResult without_rule = run(data, "beacons", "0");
+  const StandingResult standing = runStanding(data, "beacons");
+  const StandingResult without_rule = runStanding(data, "beacons", "0");
   std::printf("standing start, 30 %% NLOS, b 0.01, beacons: standing rule %.3f m (b %.5f); without it %.3f m (b %.5f)\n",
               standing.mean_m, standing.bias_rad_s, without_rule.mean_m, without_rule.bias_rad_s);
   EXPECT_LT(standing.mean_m, 0.5);  // issue 15's target for online EM, beacons
@@ -65,7 +65,7 @@ TEST(OnlineEmStandingStart, StartPoseWithASlowDriftingGyro) {
   double sum_m = 0.0;
   for (int seed : {53, 54, 55, 56}) {
     const Dataset data = sim::simulate(standingStart(sim::gyroDriftFigure8World(seed, 3000), 0.002));
-    const StandingResult start = run(data, "start_pose");
+    const StandingResult start = runStanding(data, "start_pose");
     std::printf("standing start, figure-8, b 0.002, start pose, seed %d: %.3f m (b %.5f)\n", seed, start.mean_m,
                 start.bias_rad_s);
     sum_m += start.mean_m;
