@@ -132,8 +132,6 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
   ceres::Problem ceres_problem(problem_options);
 
   double* odometry_calibration = state->odometry_calibration.data();
-  std::vector<ceres::ResidualBlockId> odometry_blocks;
-  odometry_blocks.reserve(problem.odometry.size());
   for (size_t k = 0; k < problem.odometry.size(); ++k) {
     const Odometry& odometry = problem.odometry[k];
     const double dt_s = k < problem.dt_s.size() ? problem.dt_s[k] : 0.0;
@@ -141,10 +139,10 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     const Eigen::Matrix3d information = odometryCovariance(config, odometry, dt_s, problem.heading_as_stated).inverse();
     Eigen::Matrix3d sqrt_information =
         Eigen::Matrix3d(Eigen::LLT<Eigen::Matrix3d>(information).matrixU()) / problem.odometry_sigma_factor;
-    odometry_blocks.push_back(ceres_problem.AddResidualBlock(
+    ceres_problem.AddResidualBlock(
         OdometryResidual::create(Eigen::Vector3d(odometry.forward_m, odometry.lateral_m, odometry.delta_heading_rad),
                                  dt_s, sqrt_information),
-        nullptr, state->poses[k].data(), state->poses[k + 1].data(), odometry_calibration));
+        nullptr, state->poses[k].data(), state->poses[k + 1].data(), odometry_calibration);
   }
   const bool calibrate_odometry = config.estimate_odometry_calibration && !problem.odometry.empty();
   if (calibrate_odometry)
@@ -346,12 +344,6 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     if (!robust || std::abs(residual) <= kInlierWindowSigmas) ++summary.range_inliers;
   }
   summary.odometry_cost = summary.final_cost - summary.range_cost;
-  for (ceres::ResidualBlockId id : odometry_blocks) {
-    double cost = 0.0;
-    ceres_problem.EvaluateResidualBlock(id, false, &cost, nullptr, nullptr);
-    summary.odometry_squares += 2.0 * cost;
-  }
-  summary.odometry_residuals = 3 * static_cast<int>(odometry_blocks.size());
   return summary;
 }
 

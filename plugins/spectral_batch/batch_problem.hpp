@@ -80,8 +80,6 @@ struct Summary {
   double odometry_cost = 0.0;
   double range_cost = 0.0;
   int range_inliers = 0;
-  double odometry_squares = 0.0;      // sum of the odometry residuals squared (no priors)
-  int odometry_residuals = 0;
   std::string report;           // Ceres' brief reports, one line per stage
 };
 
