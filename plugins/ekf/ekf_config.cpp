@@ -12,11 +12,6 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("beacon_sigma_m", &c->beacon_sigma_m, "anchor = beacons: surveyed position sigma per axis").min(0.0, false);
   o.add("start_sigma_m", &c->start_sigma_m, "anchor = beacons: start position sigma").min(0.0);
   o.add("start_heading_sigma_rad", &c->start_heading_sigma_rad, "anchor = beacons: start heading sigma").min(0.0);
-  o.add("odo_distance_sigma_rel", &c->odo_distance_sigma_rel, "odometry distance sigma per metre").min(0.0);
-  o.add("odo_distance_sigma_m", &c->odo_distance_sigma_m, "odometry distance sigma floor per step").min(0.0);
-  o.add("odo_heading_sigma_rel", &c->odo_heading_sigma_rel, "heading sigma per radian turned").min(0.0);
-  o.add("odo_heading_sigma_per_sqrt_m", &c->odo_heading_sigma_per_sqrt_m, "heading random walk per sqrt(metre)").min(0.0);
-  o.add("odo_heading_sigma_rad", &c->odo_heading_sigma_rad, "heading sigma floor per step").min(0.0);
   o.add("translation_noise_models", &c->translation_noise_models,
         "anchor = beacons: filters run side by side with the odometry's translation noise 1 ... translation_noise_max_factor times configured; the best predictor of the ranges is published (1: the configured noise alone)").min(1).max(16);
   o.add("translation_noise_max_factor", &c->translation_noise_max_factor, "largest factor on the translation noise sigma in the bank").min(1.0);
@@ -43,8 +38,6 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("motion_noise_max_scale", &c->motion_noise_max_scale, "largest factor on the odometry covariance after starvation").min(1.0);
   o.add("motion_noise_decay", &c->motion_noise_decay, "factor per applied range taking the odometry covariance back to configured").min(0.0, false).max(1.0);
   o.add("range_noise_max_scale", &c->range_noise_max_scale, "largest factor on the range variance when the NIS says the sigma is too small (1: off)").min(1.0);
-  o.add("range_sigma_m", &c->range_sigma_m, "range noise sigma when a range carries none").min(0.0, false);
-  o.add("bearing_sigma_rad", &c->bearing_sigma_rad, "bearing noise sigma").min(0.0, false);
   o.add("range_bias", &c->range_bias, {{"none", EkfConfig::RangeBias::kNone}, {"shared", EkfConfig::RangeBias::kShared}}, "none | shared (estimated range scale and offset)");
   o.add("range_scale_sigma", &c->range_scale_sigma, "prior sigma of the range scale (mean 1)").min(0.0, false);
   o.add("range_offset_sigma_m", &c->range_offset_sigma_m, "prior sigma of the range offset (mean 0)").min(0.0, false);
@@ -64,6 +57,7 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("init_window_block_s", &c->init_window_block_s, "the window solve's heading error is constant over blocks this long").min(0.0, false);
   o.add("init_window_prior_inflation", &c->init_window_prior_inflation,
         "the window solve's beacons enter with their solve's covariance times this").min(0.0, false);
+  addSensorNoiseOptions(o, c);
   o.require([c] { return c->init_max_ranges >= c->init_min_ranges; }, {"init_max_ranges", "init_min_ranges"},
             "init_max_ranges >= init_min_ranges");
 }

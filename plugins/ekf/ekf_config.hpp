@@ -3,11 +3,14 @@
 
 #include "roam/estimation/motion_model.hpp"
 #include "roam/options.hpp"
+#include "roam/sensor_noise.hpp"
 
 namespace roam {
 namespace ekf {
 
-struct EkfConfig {
+// The sensors' stated noise (roam/sensor_noise.hpp, the run's [sensors]: odometry noise per step,
+// range_sigma_m, bearing_sigma_rad), then the EKF's own keys.
+struct EkfConfig : SensorNoise {
   // start_pose: the INITIAL_POSE is exact and every beacon is initialised from ranges;
   // beacons: the BEACONS message gives a prior on each beacon (sigma beacon_sigma_m).
   enum class Anchor { kStartPose, kBeacons };
@@ -18,13 +21,6 @@ struct EkfConfig {
   double start_sigma_m = 0.5;              // anchor = beacons: prior on the start position
   double start_heading_sigma_rad = 0.05;   // anchor = beacons: prior on the start heading
 
-  // Odometry noise per step: var_d = (rel d)^2 + floor^2,
-  // var_dtheta = (rel_turn |dtheta|)^2 + per_sqrt_m^2 d + floor^2.
-  double odo_distance_sigma_rel = 0.02;
-  double odo_distance_sigma_m = 0.005;
-  double odo_heading_sigma_rel = 0.02;
-  double odo_heading_sigma_per_sqrt_m = 0.01;
-  double odo_heading_sigma_rad = 0.001;
   // anchor = beacons: a bank of filters whose odometry translation noise (odo_distance_sigma_rel
   // and _m) is 1 ... translation_noise_max_factor times configured, at geometric steps, run side
   // by side; the one whose ranges were predicted best (EkfSlam::predictiveLogLikelihood) is
@@ -80,8 +76,6 @@ struct EkfConfig {
   double smooth_live_lag_s = 60.0;
 
   // Range noise: max(the message's sigma, range_sigma_m) (a stated sigma is a floor, not truth).
-  double range_sigma_m = 0.5;
-  double bearing_sigma_rad = 0.05;         // used for range-bearing measurements
   RangeBias range_bias = RangeBias::kShared;
   double range_scale_sigma = 0.1;          // prior on the scale (mean 1)
   double range_offset_sigma_m = 0.5;       // prior on the offset (mean 0)

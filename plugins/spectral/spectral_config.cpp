@@ -23,8 +23,6 @@ void addSpectralOptions(Options& o, SpectralConfig* c) {
         "relative singular-value cut-off of a window's regression").min(0.0).max(1.0, false);
   o.add("robust_interpolation", &c->robust_interpolation,
         "Tukey-weighted window fits (outlier ranges drop out); false: plain least squares");
-  o.add("range_sigma_m", &c->range_sigma_m, "range noise (m): the robust fit's Huber scale")
-      .min(0.0, false);
   o.add("align_m", &c->align_m, "start_pose: metres of travel the path is aligned on")
       .min(0.0, false);
   o.add("start_gauge", &c->start_gauge,
@@ -32,22 +30,12 @@ void addSpectralOptions(Options& o, SpectralConfig* c) {
         "start_pose: rotation and translation from the whole run's odometry, or the first align_m");
   o.add("gauge_about_start", &c->gauge_about_start,
         "start_pose: pose 0 on the start, the path turned about it onto the first align_m of dead reckoning");
-  o.add("odo_heading_sigma_rel", &c->odo_heading_sigma_rel, "start_gauge, smoothing: heading noise, fraction of the turn")
-      .min(0.0);
-  o.add("odo_heading_sigma_per_sqrt_m", &c->odo_heading_sigma_per_sqrt_m,
-        "start_gauge: heading random walk (rad per sqrt(m))").min(0.0);
-  o.add("odo_heading_sigma_rad", &c->odo_heading_sigma_rad, "start_gauge: heading noise floor per step (rad)")
-      .min(0.0, false);
   o.add("smooth_with_odometry", &c->smooth_with_odometry,
         "fuse the solved positions with the calibrated odometry's step displacements (frame kept)");
   o.add("smoothing_corrects_headings", &c->smoothing_corrects_headings,
         "smooth_with_odometry: also estimate a correction to each heading that turns the odometry");
   o.add("smoothing_uses_ranges", &c->smoothing_uses_ranges,
         "smooth_with_odometry: the ranges to the re-fitted map instead of the spectral positions");
-  o.add("odo_distance_sigma_rel", &c->odo_distance_sigma_rel,
-        "smooth_with_odometry: odometry distance noise, fraction of the step").min(0.0);
-  o.add("odo_distance_sigma_m", &c->odo_distance_sigma_m,
-        "smooth_with_odometry: odometry distance noise floor per step (m)").min(0.0, false);
   o.add("calibrate_odometry", &c->calibrate_odometry,
         "estimate the odometry distance scale and gyro bias against the solution, then solve again");
   o.add("gyro_bias_segment_s", &c->gyro_bias_segment_s,
@@ -68,6 +56,11 @@ void addSpectralOptions(Options& o, SpectralConfig* c) {
         "where the run would be refused: leave out each beacon's ranges in stretches entered by a "
         "jump up and left by a jump down beyond the distance travelled between them (NLOS in "
         "stretches) and solve once more");
+  addSensorNoiseOptions(o, c);
+  // The odometry smoother weighs each step by its noise: a zero floor would give a still step
+  // infinite weight.
+  o.require([c] { return c->odo_distance_sigma_m > 0.0 && c->odo_heading_sigma_rad > 0.0; },
+            {"odo_distance_sigma_m", "odo_heading_sigma_rad"}, "odo_distance_sigma_m > 0 and odo_heading_sigma_rad > 0");
 }
 
 }  // namespace roam::spectral

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "roam/options.hpp"
+#include "roam/sensor_noise.hpp"
 
 namespace roam::spectral {
 
@@ -24,7 +25,10 @@ enum class SpectralMode {
   kOnline  // Brand's incremental SVD; a pose per step, window_s behind the input
 };
 
-struct SpectralConfig {
+// The sensors' stated noise (roam/sensor_noise.hpp, the run's [sensors]): range_sigma_m scales the
+// robust fit's first (Huber) stage and the self-check; the odometry noise per step weighs the
+// whole_path gauge and the odometry smoother. Then spectral's own keys.
+struct SpectralConfig : SensorNoise {
   // beacons: the paper's Plaza setting (regression onto surveyed beacons) and the most accurate.
   SpectralAnchor anchor = SpectralAnchor::kBeacons;
   // 4: positions only (Eq. 4-7); 7: positions and headings (Eq. 8-11).
@@ -54,9 +58,6 @@ struct SpectralConfig {
   // for every pose in it. On Gaussian noise the biweight keeps 95 % of the efficiency; on
   // noise-free data it is the least-squares fit. false: the paper's plain least squares.
   bool robust_interpolation = true;
-  // Range noise (m) that scales the robust fit's first (Huber) stage: UWB's "a few tens of cm",
-  // the top of that band, as the ekf and online_em plugins assume.
-  double range_sigma_m = 0.5;
 
   // anchor = start_pose: distance travelled from the start over which the learned path is rotated
   // and translated onto dead reckoning from the start pose (scale and reflection come from the
@@ -79,13 +80,6 @@ struct SpectralConfig {
   // 0.2-0.5 m off the start on drift figure-8 runs; the rotation about the start, on the smoothed
   // path, is what spectral_batch reaches (README "Round 7"). false: the solve's frame as is.
   bool gauge_about_start = true;
-  // Odometry heading noise of the whole_path gauge and of smooth_with_odometry: the ekf's and spectral_batch's model and
-  // defaults, so estimators are compared on equal terms: per step, variance
-  // (rel |turn|)^2 + per_sqrt_m^2 d + floor^2 (a random walk of 0.01 rad per sqrt(metre), ~0.3 rad
-  // after a kilometre: wheel odometry). A heading variance the odometry reports raises it.
-  double odo_heading_sigma_rel = 0.02;
-  double odo_heading_sigma_per_sqrt_m = 0.01;
-  double odo_heading_sigma_rad = 0.001;
 
   // Final step (odometry_smoother.hpp): the solved positions, noise from their own range residuals
   // (sigma_r sqrt(2 / ranges per pose)), fused with the calibrated odometry's step displacements
@@ -102,10 +96,6 @@ struct SpectralConfig {
   // "Round 8"). Not where the windows' outlier fraction makes outlier-majority windows plausible.
   // false: the spectral positions.
   bool smoothing_uses_ranges = true;
-  // Its odometry distance noise per step, sigma = rel d + floor: the ekf's and spectral_batch's
-  // model and defaults (the heading noise is odo_heading_sigma_*).
-  double odo_distance_sigma_rel = 0.02;
-  double odo_distance_sigma_m = 0.005;
 
   // Estimate the odometry's distance scale and heading-rate (gyro) bias against the spectral
   // solution and solve again with the calibrated odometry (odometry_calibration.hpp). Costs one

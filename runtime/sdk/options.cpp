@@ -233,9 +233,21 @@ Options::Option& Options::add(const std::string& key, std::string* target,
 void Options::parse() {
   std::vector<std::string> known;
   for (const auto& option : options_) known.push_back(option->key_);
+  // A shared value ("sensors.<key>", roam/sensor_noise.hpp) is a default that a declared <key>
+  // takes unless the section sets <key> itself; an undeclared one is not this plugin's to read.
+  const std::string shared_prefix = kSharedPrefix;
+  std::vector<std::string> plain;
+  for (const auto& entry : values_) plain.push_back(trim(entry.first));
   for (const auto& [raw_key, raw_value] : values_) {
-    const std::string key = trim(raw_key);
+    std::string key = trim(raw_key);
     const std::string value = trim(raw_value);
+    const bool shared = key.compare(0, shared_prefix.size(), shared_prefix) == 0;
+    if (shared) {
+      key = key.substr(shared_prefix.size());
+      if (std::find(known.begin(), known.end(), key) == known.end() ||
+          std::find(plain.begin(), plain.end(), key) != plain.end())
+        continue;
+    }
     auto it = std::find_if(options_.begin(), options_.end(),
                            [&](const auto& option) { return option->key_ == key; });
     if (it == options_.end()) {

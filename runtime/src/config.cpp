@@ -1,6 +1,7 @@
 #include "config.hpp"
 
 #include "plugin_library.hpp"
+#include "roam/sensor_noise.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -233,7 +234,7 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
     if (!ini.sections.count(section)) {
       // A new [estimator.NAME] needs its plugin named; any other key for a section the file does
       // not have is a typo of a section's name, said as such (not as a missing plugin key).
-      if (section != "runtime" && section != "team" && key != "plugin") {
+      if (section != "runtime" && section != "team" && section != "sensors" && key != "plugin") {
         std::string sections;
         for (const auto& known : ini.section_order) sections += (sections.empty() ? "" : ", ") + ("[" + known + "]");
         std::string message = "no section [" + section + "] in " + path + " (it has " +
@@ -262,9 +263,10 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
     return Origin{path, it == ini.section_lines.end() ? 0 : it->second, ""};
   };
   for (const auto& section : ini.section_order) {
-    if (section == "runtime" || section == "team" || section.rfind("estimator.", 0) == 0) continue;
-    std::string message = "unknown section (expected [runtime], [team] or [estimator.NAME])";
-    const std::string hint = closestMatch(section, {"runtime", "team"});
+    if (section == "runtime" || section == "team" || section == "sensors" || section.rfind("estimator.", 0) == 0)
+      continue;
+    std::string message = "unknown section (expected [runtime], [sensors], [team] or [estimator.NAME])";
+    const std::string hint = closestMatch(section, {"runtime", "sensors", "team"});
     if (!hint.empty()) message += " (did you mean '" + hint + "'?)";
     if (section.rfind("estimator", 0) == 0 || closestMatch(section.substr(0, 10), {"estimator."}) != "") {
       message = "unknown section (expected [estimator.NAME], with a dot)";
@@ -300,6 +302,14 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
 
   if (ini.sections.count("team")) parseTeam(ini.sections["team"], sectionOrigin("team"), &config);
 
+  // [sensors]: the sensors' stated noise, every estimator's default (roam/sensor_noise.hpp).
+  config.sensor_settings = ini.sections["sensors"];
+  KeyValues sensor_values;
+  for (const auto& setting : config.sensor_settings) sensor_values.emplace_back(setting.key, setting.value);
+  Options sensor_options(sensor_values);
+  addSensorNoiseOptions(sensor_options, &config.sensors);
+  parseSection(sensor_options, config.sensor_settings, "sensors", sectionOrigin("sensors"));
+
   for (const auto& section : ini.section_order) {
     if (section.rfind("estimator.", 0) != 0) continue;
     EstimatorSection estimator;
@@ -332,6 +342,8 @@ RunConfig loadConfig(const std::string& path, const std::vector<std::string>& ov
         estimator.plugin_settings.push_back(setting);
       }
     }
+    for (const auto& setting : config.sensor_settings)
+      estimator.plugin_settings.push_back(Setting{Options::kSharedPrefix + setting.key, setting.value, setting.origin});
     Options options(values);
     addEstimatorOptions(options, &estimator);
     parseSection(options, own_settings, section, estimator.section_origin);
@@ -380,6 +392,12 @@ std::string formatConfig(const RunConfig& config, const std::vector<KeyValues>& 
     }
     out << "\n";
   }
+  out << "\n[sensors]\n";
+  SensorNoise sensors = config.sensors;
+  Options sensor_options(KeyValues{});
+  addSensorNoiseOptions(sensor_options, &sensors);
+  const KeyValues sensor_values = sensor_options.effective();
+  for (const auto& [key, value] : sensor_values) out << key << " = " << value << "\n";
   for (size_t i = 0; i < config.estimators.size(); ++i) {
     EstimatorSection estimator = config.estimators[i];
     out << "\n[estimator." << estimator.name << "]\n";
@@ -390,9 +408,15 @@ std::string formatConfig(const RunConfig& config, const std::vector<KeyValues>& 
       out << key << " = " << value << "\n";
     }
     if (i < plugin_effective.size()) {
-      for (const auto& [key, value] : plugin_effective[i]) out << key << " = " << value << "\n";
+      // A sensor's figure is printed under [sensors]; here only where this estimator differs.
+      for (const auto& [key, value] : plugin_effective[i]) {
+        const bool shared = std::find(sensor_values.begin(), sensor_values.end(), std::make_pair(key, value)) !=
+                            sensor_values.end();
+        if (!shared) out << key << " = " << value << "\n";
+      }
     } else {
       for (const auto& setting : estimator.plugin_settings) {
+        if (setting.key.rfind(Options::kSharedPrefix, 0) == 0) continue;
         out << setting.key << " = " << setting.value << "\n";
       }
     }

@@ -3,6 +3,7 @@
 // the plugins declare theirs, so errors, "did you mean" and --print-config are one code path.
 //
 //   [runtime]            input, output, plugin_path, channel names, live-mode settings
+//   [sensors]            the sensors' stated noise, shared by every estimator (roam/sensor_noise.hpp)
 //   [estimator.NAME]     plugin = <plugin name>; every other key goes to the plugin, except the
 //                        runtime's per-estimator keys (pose_channel, map_channel, ...)
 //
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include "roam/options.hpp"
+#include "roam/sensor_noise.hpp"
 
 namespace roam {
 namespace runtime {
@@ -89,6 +91,10 @@ struct RunConfig {
   // by default); the others' start poses are withheld, for a team estimator to find.
   std::vector<std::string> team_starts;
   bool isTeam() const { return !team.empty(); }
+  // [sensors]: the sensors' stated noise (defaults included), and its settings as given; each
+  // given one is in every estimator's plugin_settings as "sensors.<key>" (Options::kSharedPrefix).
+  SensorNoise sensors;
+  std::vector<Setting> sensor_settings;
   std::vector<Setting> runtime_settings;  // as given, for --print-config
 
   bool isLive() const { return input.find("://") != std::string::npos; }

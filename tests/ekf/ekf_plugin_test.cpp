@@ -34,6 +34,22 @@ TEST(EkfPlugin, RejectsABadKeyByName) {
   }
 }
 
+TEST(EkfPlugin, TakesTheSensorsNoiseUnlessItsSectionSetsIt) {
+  // roam-run hands [sensors] to every estimator as "sensors.<key>" (roam/sensor_noise.hpp).
+  auto library = openEkf();
+  auto valueOf = [](const KeyValues& values, const std::string& key) {
+    for (const auto& [k, v] : values)
+      if (k == key) return v;
+    return std::string("(missing)");
+  };
+  runtime::PluginInstance shared(library, "ekf", {{"sensors.range_sigma_m", "0.7"}, {"sensors.bearing_sigma_rad", "0.1"}});
+  EXPECT_EQ(valueOf(shared.effectiveConfig(), "range_sigma_m"), "0.7");
+  EXPECT_EQ(valueOf(shared.effectiveConfig(), "bearing_sigma_rad"), "0.1");
+  runtime::PluginInstance own(library, "ekf", {{"sensors.range_sigma_m", "0.7"}, {"range_sigma_m", "0.3"}});
+  EXPECT_EQ(valueOf(own.effectiveConfig(), "range_sigma_m"), "0.3");
+  EXPECT_EQ(valueOf(own.effectiveConfig(), "odo_distance_sigma_rel"), "0.02");
+}
+
 TEST(EkfPlugin, NoiseFreeRunThroughTheAbi) {
   sim::SimConfig c;
   c.seed = 3;

@@ -145,6 +145,44 @@ TEST(Config, RuntimeKeysGoThroughOptionsLikeThePlugins) {
             std::string::npos) << printed;
 }
 
+TEST(Config, SensorsStateTheNoiseOnceForEveryEstimator) {
+  // [sensors]: the sensors' stated noise, checked with the SDK's declaration and handed to every
+  // estimator as a shared default ("sensors.<key>"), after the estimator's own keys.
+  const std::string head = "[runtime]\ninput = a.lcmlog\n";
+  const std::string tail = "[estimator.a]\nplugin = ekf\nrange_sigma_m = 0.3\n[estimator.b]\nplugin = deadreckoning\n";
+  EXPECT_EQ(loadError(head + "[sensors]\nrange_sigma = 0.7\n" + tail),
+            "bad.ini:4 [sensors] range_sigma: unknown key 'range_sigma' (did you mean 'range_sigma_m'?)");
+  EXPECT_EQ(loadError(head + "[sensors]\nrange_sigma_m = 0\n" + tail),
+            "bad.ini:4 [sensors] range_sigma_m: expected a value > 0, got '0'");
+  EXPECT_EQ(loadError(head + "[sensor]\n" + tail),
+            "bad.ini:3 [sensor]: unknown section (expected [runtime], [sensors], [team] or [estimator.NAME]) "
+            "(did you mean 'sensors'?)");
+  const auto dir = scratchDir("config_sensors");
+  const auto path = writeFile(dir / "run.ini", head + "[sensors]\nrange_sigma_m = 0.7\n" + tail);
+  const RunConfig config = loadConfig(path.string(), {"sensors.odo_distance_sigma_rel=0.05"}, "/p");
+  EXPECT_EQ(config.sensors.range_sigma_m, 0.7);
+  EXPECT_EQ(config.sensors.odo_distance_sigma_rel, 0.05);
+  EXPECT_EQ(config.sensors.bearing_sigma_rad, SensorNoise{}.bearing_sigma_rad);
+  ASSERT_EQ(config.estimators.size(), 2u);
+  for (const auto& estimator : config.estimators) {
+    const auto& settings = estimator.plugin_settings;
+    ASSERT_GE(settings.size(), 2u);
+    EXPECT_EQ(settings[settings.size() - 2].key, "sensors.range_sigma_m");
+    EXPECT_EQ(settings[settings.size() - 2].value, "0.7");
+    EXPECT_EQ(settings[settings.size() - 2].origin.line, 4);
+    EXPECT_EQ(settings.back().key, "sensors.odo_distance_sigma_rel");
+    EXPECT_EQ(settings.back().origin.describe(), "--set sensors.odo_distance_sigma_rel=0.05");
+  }
+  EXPECT_EQ(config.estimators[0].plugin_settings.front().key, "range_sigma_m");
+  // --print-config: [sensors] with every figure; an estimator's own value where it differs.
+  const std::string printed = formatConfig(config);
+  EXPECT_NE(printed.find("[sensors]\nodo_distance_sigma_rel = 0.05\nodo_distance_sigma_m = 0.005\n"), std::string::npos)
+      << printed;
+  EXPECT_NE(printed.find("range_sigma_m = 0.7\n"), std::string::npos) << printed;
+  EXPECT_NE(printed.find("max_finish_s = 0\nrange_sigma_m = 0.3\n"), std::string::npos) << printed;
+  EXPECT_EQ(printed.find("\nsensors."), std::string::npos) << printed;
+}
+
 TEST(Config, MissingFileIsReported) {
   EXPECT_THROW(loadConfig("/nonexistent/roam.ini", {}, "/p"), ConfigError);
 }

@@ -41,6 +41,30 @@ TEST(Options, DefaultsAndGivenValues) {
   EXPECT_EQ(config.anchor, "beacons");
 }
 
+TEST(Options, ASharedValueIsADefaultForADeclaredKeyOnly) {
+  // "sensors.<key>" (the runtime's [sensors]): taken by a declared key that the values do not set
+  // themselves, wherever it stands; skipped, not refused, where the key is not declared.
+  double range_sigma_m = 0.5, bearing_sigma_rad = 0.05;
+  Options options({{"sensors.range_sigma_m", "0.7"}, {"bearing_sigma_rad", "0.1"}, {"sensors.bearing_sigma_rad", "0.2"},
+                   {"sensors.odo_distance_sigma_m", "0.01"}});
+  options.add("range_sigma_m", &range_sigma_m, "").min(0.0, false);
+  options.add("bearing_sigma_rad", &bearing_sigma_rad, "");
+  options.parse();
+  EXPECT_EQ(range_sigma_m, 0.7);
+  EXPECT_EQ(bearing_sigma_rad, 0.1);
+  EXPECT_TRUE(options.given("range_sigma_m"));
+  EXPECT_FALSE(options.given("odo_distance_sigma_m"));
+  // Its checks are the key's own.
+  Options bad(KeyValues{{"sensors.range_sigma_m", "-1"}});
+  bad.add("range_sigma_m", &range_sigma_m, "").min(0.0, false);
+  try {
+    bad.parse();
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), "range_sigma_m");
+  }
+}
+
 TEST(Options, ErrorsNameTheKeyAndWhatWasExpected) {
   EXPECT_EQ(parseError({{"rank", "5"}}), "rank: expected one of 4 | 7, got '5'");
   EXPECT_EQ(parseError({{"rank", "four"}}), "rank: expected an integer, got 'four'");

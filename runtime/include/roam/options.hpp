@@ -68,6 +68,11 @@ class Options {
 
   explicit Options(KeyValues values) : values_(std::move(values)) {}
 
+  // A value keyed "sensors.<key>" is a shared default (the runtime's [sensors] section,
+  // roam/sensor_noise.hpp): parse() gives it to a declared <key> that the values do not set
+  // themselves, and skips it where <key> is not declared.
+  static constexpr const char* kSharedPrefix = "sensors.";
+
   Option& add(const std::string& key, double* target, const std::string& help);
   Option& add(const std::string& key, int* target, const std::string& help);
   Option& add(const std::string& key, bool* target, const std::string& help);
