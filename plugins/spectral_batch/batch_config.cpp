@@ -20,12 +20,6 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
   o.add("seed_heading_align_m", &c->seed_heading_align_m,
         "init = spectral: seed headings = odometry headings rotated onto the spectral positions over "
         "this much travel (0: spectral headings)").min(0.0);
-  o.add("odo_distance_sigma_rel", &c->odo_distance_sigma_rel, "odometry distance sigma per metre").min(0.0);
-  o.add("odo_distance_sigma_m", &c->odo_distance_sigma_m, "odometry distance sigma floor per step").min(0.0, false);
-  o.add("odo_heading_sigma_rel", &c->odo_heading_sigma_rel, "heading sigma per radian turned").min(0.0);
-  o.add("odo_heading_sigma_per_sqrt_m", &c->odo_heading_sigma_per_sqrt_m, "heading random walk per sqrt(metre)").min(0.0);
-  o.add("odo_heading_sigma_rad", &c->odo_heading_sigma_rad, "heading sigma floor per step").min(0.0, false);
-  o.add("range_sigma_m", &c->range_sigma_m, "range noise sigma when a range carries none").min(0.0, false);
   o.add("loss", &c->loss, {{"huber", C::Loss::kHuber}, {"cauchy", C::Loss::kCauchy}, {"tukey", C::Loss::kTukey}, {"none", C::Loss::kNone}},
         "robust loss on ranges: huber | cauchy | tukey | none");
   o.add("loss_scale", &c->loss_scale, "robust loss scale in sigmas (0: the loss's 95 % efficiency constant)").min(0.0);
@@ -76,6 +70,10 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
   o.add("parameter_tolerance", &c->parameter_tolerance, "Ceres relative step size to stop").min(0.0);
   o.add("num_threads", &c->num_threads, "Ceres threads").min(1);
   o.add("verbose", &c->verbose, "print the solver summary on stderr after every solve");
+  addSensorNoiseOptions(o, c);
+  // A zero floor would give a still step infinite weight.
+  o.require([c] { return c->odo_distance_sigma_m > 0.0 && c->odo_heading_sigma_rad > 0.0; },
+            {"odo_distance_sigma_m", "odo_heading_sigma_rad"}, "odo_distance_sigma_m > 0 and odo_heading_sigma_rad > 0");
 }
 
 }  // namespace spectral_batch

@@ -8,7 +8,7 @@ void addSensorNoiseOptions(Options& o, SensorNoise* n) {
   o.add("odo_heading_sigma_rel", &n->odo_heading_sigma_rel, "heading sigma per radian turned").min(0.0);
   o.add("odo_heading_sigma_per_sqrt_m", &n->odo_heading_sigma_per_sqrt_m, "heading random walk per sqrt(metre)").min(0.0);
   o.add("odo_heading_sigma_rad", &n->odo_heading_sigma_rad, "heading sigma floor per step").min(0.0);
-  o.add("range_sigma_m", &n->range_sigma_m, "range noise sigma where a range carries none (or a smaller one)").min(0.0, false);
+  o.add("range_sigma_m", &n->range_sigma_m, "range noise sigma where a range states none").min(0.0, false);
   o.add("bearing_sigma_rad", &n->bearing_sigma_rad, "bearing noise sigma, where a sensor gives bearings").min(0.0, false);
 }
 

@@ -8,8 +8,8 @@
 //   heading sigma^2 = (odo_heading_sigma_rel w)^2 + odo_heading_sigma_per_sqrt_m^2 d
 //                     + odo_heading_sigma_rad^2       (estimation::wheelHeadingVariance_rad2)
 // A covariance the odometry message reports is used where it is larger, never below.
-// Ranges: sigma range_sigma_m where a range message carries none (or a smaller one); a bearing,
-// where a sensor gives one, bearing_sigma_rad.
+// Ranges: sigma range_sigma_m where a range message states none (the EKF also floors a stated
+// one at it); a bearing, where a sensor gives one, bearing_sigma_rad.
 //
 // The defaults, and why:
 //  - odo_distance_sigma_rel 0.02: wheel slip of ~2 % of the distance, forward and lateral;
