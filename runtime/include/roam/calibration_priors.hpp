@@ -5,6 +5,9 @@
 // Gyro: heading-rate bias b ~ N(0, 0.01^2) rad/s (0.6 deg/s: a MEMS gyro's turn-on bias;
 // fibre-optic and wheel-odometry headings drift less), a random walk whose constant case is 0.
 //
+// Odometry: distance scale s ~ N(1, 0.05^2): wheel odometry and DVL distance errors are a few
+// percent (wheel radius, tyre wear, a DVL's scale), 5 % is a generous 1-sigma.
+//
 // Range model: r = scale |m - p| + offset + offset_beacon + e,  e ~ N(0, sigma^2).
 //  - scale ~ N(1, 0.1^2): UWB and acoustic ranges run long by a few percent (a speed-of-sound
 //    or clock-rate error; Plaza 1's UWB ranges are 7 % long), 10 % is a generous 1-sigma.
@@ -15,6 +18,7 @@
 namespace roam {
 
 constexpr double kHeadingRateBiasPriorSigma_rad_s = 0.01;
+constexpr double kDistanceScalePriorSigma = 0.05;
 constexpr double kRangeScalePriorSigma = 0.1;
 constexpr double kRangeOffsetPriorSigma_m = 1.0;
 constexpr double kBeaconOffsetPriorSigma_m = 1.0;

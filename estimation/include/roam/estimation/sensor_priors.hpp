@@ -13,6 +13,7 @@ namespace roam {
 namespace estimation {
 
 using roam::kBeaconOffsetPriorSigma_m;
+using roam::kDistanceScalePriorSigma;
 using roam::kHeadingRateBiasPriorSigma_rad_s;
 using roam::kRangeOffsetPriorSigma_m;
 using roam::kRangeScalePriorSigma;
