@@ -52,10 +52,9 @@ struct EkfConfig {
   // more than this over that time (kHeadingRateBiasPriorSigma_rad_s x 3 x the mean interval
   // between the fix times of the first 20 ranges), the EKF's heading leaves its linear regime
   // before the ranges can observe the bias, and the bias is fixed at 0 instead (sparse, AUV-like
-  // data), with a note at the end of the run. 0.08 rad: between the slowest synthetic rate that needs the bias (a
-  // UWB robot ranging every 2 s: 0.06 rad) and the fastest AUV-like one where estimating it broke
-  // the filter (3.3 s per fix: 0.099 rad). 0: always estimate it.
-  double gyro_bias_max_drift_rad = 0.08;
+  // data), with a note at the end of the run. The shared kHeadingRateBiasMaxDrift_rad (0.08 rad,
+  // roam/calibration_priors.hpp says why); 0: always estimate it.
+  double gyro_bias_max_drift_rad = kHeadingRateBiasMaxDrift_rad;
   // Zero-rate update below this speed (the robot stands still: its reported turn is the bias).
   double stationary_speed_mps = 0.02;
   // ... in this many steps in a row, each turning at the rate of the one before (within the gate).

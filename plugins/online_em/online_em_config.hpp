@@ -103,11 +103,10 @@ struct OnlineEmConfig {
   // between the fix times of the first 20 ranges). Above this, the bias is fixed at 0 (the
   // distance scale is still estimated) and the run ends with a note: the particles cannot tell
   // it from the heading noise, and what the M-step learned for it (1e-4-1e-3 rad/s on AUV-like
-  // runs with none) rotated the path by tens of metres. 0.08 rad: UWB rates (Plaza 1, 2 Hz
-  // synthetic: <= 0.016 rad; a slow UWB robot ranging every 2 s: 0.06) estimate it, AUV rates
-  // (synthetic 3.3 s per fix: 0.099 rad; GOATS 16: 0.185) do not. Until the 20th range b is held at 0 (its statistics accumulate all
-  // along). 0: always estimate.
-  double heading_rate_bias_max_drift_rad = 0.08;
+  // runs with none) rotated the path by tens of metres. The shared kHeadingRateBiasMaxDrift_rad
+  // (0.08 rad, roam/calibration_priors.hpp): UWB rates estimate it, AUV rates do not. Until the
+  // 20th range b is held at 0 (its statistics accumulate all along). 0: always estimate.
+  double heading_rate_bias_max_drift_rad = kHeadingRateBiasMaxDrift_rad;
   // A vehicle standing still does not turn. A standstill by the shared rule
   // (roam/estimation/standstill.hpp: stationary_min_steps steps in a row slower than
   // stationary_speed_mps, each turning at the rate of the one before within 3 sigma; the EKF's

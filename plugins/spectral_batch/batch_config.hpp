@@ -152,8 +152,9 @@ struct SpectralBatchConfig {
   // The rule of the EKF and online EM on how often the ranges fix the position
   // (roam/estimation/bias_observability.hpp): where over three fixes the bias prior above would
   // turn the heading by more than this (rad), the ranges come too seldom to correct the heading
-  // between fixes (AUV rates: GOATS 16 0.185 rad; UWB rates <= 0.06). <= 0: always dense.
-  double heading_rate_bias_max_drift_rad = 0.08;
+  // between fixes (AUV rates: GOATS 16 0.185 rad; UWB rates <= 0.06): the shared
+  // kHeadingRateBiasMaxDrift_rad (roam/calibration_priors.hpp). <= 0: always dense.
+  double heading_rate_bias_max_drift_rad = kHeadingRateBiasMaxDrift_rad;
   // anchor = start_pose where the rule above finds the ranges sparse and every odometry message
   // states a covariance: the heading noise is the stated one (floored by odo_heading_sigma_rad),
   // not the wheel model below (odo_heading_sigma_per_sqrt_m, _rel), the heading-rate bias is held

@@ -14,6 +14,7 @@ namespace estimation {
 
 using roam::kBeaconOffsetPriorSigma_m;
 using roam::kDistanceScalePriorSigma;
+using roam::kHeadingRateBiasMaxDrift_rad;
 using roam::kHeadingRateBiasPriorSigma_rad_s;
 using roam::kRangeOffsetPriorSigma_m;
 using roam::kRangeScalePriorSigma;
