@@ -18,8 +18,6 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("translation_noise_drop_nats", &c->translation_noise_drop_nats, "a model whose range log-likelihood falls this far behind the best is dropped (0: never)").min(0.0);
   o.add("gyro_bias_twins", &c->gyro_bias_twins, "anchor = beacons: where gyro_bias_max_drift_rad holds the heading-rate bias at 0, each model of the bank has a twin that estimates it, and the ranges choose");
   o.add("estimate_odometry_calibration", &c->estimate_odometry_calibration, "estimate odometry distance scale and heading-rate bias as states");
-  o.add("odo_scale_sigma", &c->odo_scale_sigma, "prior sigma of the odometry distance scale (mean 1)").min(0.0, false);
-  o.add("gyro_bias_sigma_rad_s", &c->gyro_bias_sigma_rad_s, "prior sigma of the heading-rate bias (rad/s)").min(0.0, false);
   o.add("gyro_bias_walk_rad_s_per_sqrt_s", &c->gyro_bias_walk_rad_s_per_sqrt_s, "random walk of the heading-rate bias").min(0.0);
   o.add("gyro_bias_max_drift_rad", &c->gyro_bias_max_drift_rad, "fix the heading-rate bias at 0 if its prior turns the heading more than this between position fixes (0: always estimate)").min(0.0);
   o.add("stationary_speed_mps", &c->stationary_speed_mps, "below this speed a reported turn is the heading-rate bias (0: never)").min(0.0);
@@ -39,7 +37,6 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("motion_noise_decay", &c->motion_noise_decay, "factor per applied range taking the odometry covariance back to configured").min(0.0, false).max(1.0);
   o.add("range_noise_max_scale", &c->range_noise_max_scale, "largest factor on the range variance when the NIS says the sigma is too small (1: off)").min(1.0);
   o.add("range_bias", &c->range_bias, {{"none", EkfConfig::RangeBias::kNone}, {"shared", EkfConfig::RangeBias::kShared}}, "none | shared (estimated range scale and offset)");
-  o.add("range_scale_sigma", &c->range_scale_sigma, "prior sigma of the range scale (mean 1)").min(0.0, false);
   o.add("range_offset_sigma_m", &c->range_offset_sigma_m, "prior sigma of the range offset (mean 0)").min(0.0, false);
   o.add("beacon_range_offset_sigma_m", &c->beacon_range_offset_sigma_m, "prior sigma of each beacon's own range offset state (mean 0; 0: no per-beacon offsets)").min(0.0);
   o.add("range_huber_k", &c->range_huber_k, "Huber threshold of the range update in innovation sigmas (0: off)").min(0.0);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "roam/estimation/motion_model.hpp"
+#include "roam/calibration_priors.hpp"
 #include "roam/options.hpp"
 #include "roam/sensor_noise.hpp"
 
@@ -37,21 +38,19 @@ struct EkfConfig : SensorNoise {
   bool gyro_bias_twins = true;
 
   // Odometry calibration as filter states (estimation::OdometryCalibration): distance scale s
-  // (prior 1 +- odo_scale_sigma) and heading-rate bias b (prior 0 +- gyro_bias_sigma_rad_s,
-  // random walk gyro_bias_walk_rad_s_per_sqrt_s).
+  // (prior 1 +- kDistanceScalePriorSigma) and heading-rate bias b (prior 0 +-
+  // kHeadingRateBiasPriorSigma_rad_s: the SDK's roam/calibration_priors.hpp, every estimator's),
+  // random walk gyro_bias_walk_rad_s_per_sqrt_s.
   bool estimate_odometry_calibration = true;
-  double odo_scale_sigma = 0.05;
-  double gyro_bias_sigma_rad_s = 0.01;
   double gyro_bias_walk_rad_s_per_sqrt_s = 1e-5;
   // Observability of the heading-rate bias from the ranges (estimation::BiasObservability): the
   // heading is re-fixed about every three position fixes; if the bias prior turns the heading by
-  // more than this over that time (gyro_bias_sigma_rad_s x 3 x the mean interval between the fix
-  // times of the first 20 ranges), the EKF's heading leaves its linear regime before the ranges
-  // can observe the bias, and the bias is fixed at 0 instead (sparse, AUV-like data), with a note
-  // at the end of the run. 0.08 rad: between the slowest synthetic rate that needs the bias (a
-  // UWB robot ranging every 2 s: 0.06 rad) and the fastest AUV-like one where estimating it broke
-  // the filter (3.3 s per fix: 0.099 rad). 0: always estimate it.
-  double gyro_bias_max_drift_rad = 0.08;
+  // more than this over that time (kHeadingRateBiasPriorSigma_rad_s x 3 x the mean interval
+  // between the fix times of the first 20 ranges), the EKF's heading leaves its linear regime
+  // before the ranges can observe the bias, and the bias is fixed at 0 instead (sparse, AUV-like
+  // data), with a note at the end of the run. The shared kHeadingRateBiasMaxDrift_rad (0.08 rad,
+  // roam/calibration_priors.hpp says why); 0: always estimate it.
+  double gyro_bias_max_drift_rad = kHeadingRateBiasMaxDrift_rad;
   // Zero-rate update below this speed (the robot stands still: its reported turn is the bias).
   double stationary_speed_mps = 0.02;
   // ... in this many steps in a row, each turning at the rate of the one before (within the gate).
@@ -77,7 +76,7 @@ struct EkfConfig : SensorNoise {
 
   // Range noise: max(the message's sigma, range_sigma_m) (a stated sigma is a floor, not truth).
   RangeBias range_bias = RangeBias::kShared;
-  double range_scale_sigma = 0.1;          // prior on the scale (mean 1)
+  // The scale's prior (mean 1) is the shared kRangeScalePriorSigma (roam/calibration_priors.hpp).
   double range_offset_sigma_m = 0.5;       // prior on the offset (mean 0)
   // Per-beacon range offsets: each surveyed beacon's ranges carry its own offset o_b (an acoustic
   // transponder's turn-around delay, a UWB anchor's antenna delay), a state with prior

@@ -25,6 +25,7 @@
 
 #include <Eigen/Dense>
 
+#include "roam/calibration_priors.hpp"
 #include "roam/types.hpp"
 
 namespace roam {
@@ -33,8 +34,8 @@ namespace ekf {
 // Prior of the odometry calibration states (off: s = 1, b = 0 exactly, no states).
 struct EkfCalibrationPrior {
   bool estimated = false;
-  double distance_scale_sigma = 0.05;
-  double heading_rate_bias_sigma_rad_s = 0.01;
+  double distance_scale_sigma = kDistanceScalePriorSigma;
+  double heading_rate_bias_sigma_rad_s = kHeadingRateBiasPriorSigma_rad_s;
 };
 
 class EkfFilter {

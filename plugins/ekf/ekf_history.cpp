@@ -125,7 +125,7 @@ void EkfSlam::rerunWithCalibration(bool pending_may_not_wait) {
   // rather than not at all (a 50 Hz run with a beacon outside the area, 20 seeds: the eleven
   // runs it held back 1.92 -> 0.86 m mean).
   if (filter_.beacons().empty() || (!pending_.empty() && !pending_may_not_wait) ||
-      sigma_b > config_.calib_rerun_fraction * config_.gyro_bias_sigma_rad_s)
+      sigma_b > config_.calib_rerun_fraction * kHeadingRateBiasPriorSigma_rad_s)
     return;
   calib_rerun_pending_ = false;
   if (history_.empty() || history_.front().index != 0) return;

@@ -45,7 +45,7 @@ EkfSlam::EkfSlam(const EkfConfig& config) : config_(config) {
   gate_range_chi2_ = chiSquareQuantile(1, config_.gate_probability);
   gate_range_bearing_chi2_ = chiSquareQuantile(2, config_.gate_probability);
   standstill_ = estimation::Standstill({config_.stationary_speed_mps, config_.stationary_min_steps, gate_range_chi2_});
-  bias_rate_ = estimation::BiasObservability(config_.gyro_bias_sigma_rad_s, config_.gyro_bias_max_drift_rad);
+  bias_rate_ = estimation::BiasObservability(kHeadingRateBiasPriorSigma_rad_s, config_.gyro_bias_max_drift_rad);
 }
 
 void EkfSlam::start(const Pose& pose) {
@@ -55,7 +55,7 @@ void EkfSlam::start(const Pose& pose) {
     pose_cov.diagonal() << var_m2, var_m2, config_.start_heading_sigma_rad * config_.start_heading_sigma_rad;
   }
   filter_.reset(Eigen::Vector3d(pose.x_m, pose.y_m, pose.heading_rad), pose_cov,
-                config_.range_bias == EkfConfig::RangeBias::kShared, config_.range_scale_sigma,
+                config_.range_bias == EkfConfig::RangeBias::kShared, kRangeScalePriorSigma,
                 config_.range_offset_sigma_m, calibrationPrior());
   started_ = true;
   bias_undecided_ = config_.estimate_odometry_calibration && config_.gyro_bias_max_drift_rad > 0.0;
@@ -82,8 +82,8 @@ EkfFilter::CalibrationPrior EkfSlam::calibrationPrior() const {
   // / k) explains the same data, so with an estimated range scale the odometry scale is held at
   // 1 (variance 0) and the range scale carries the ratio; beacons (or range_bias = none) fix it.
   const bool scale_observable = config_.anchor == EkfConfig::Anchor::kBeacons || config_.range_bias == EkfConfig::RangeBias::kNone;
-  prior.distance_scale_sigma = scale_observable ? config_.odo_scale_sigma : 0.0;
-  prior.heading_rate_bias_sigma_rad_s = config_.gyro_bias_sigma_rad_s;
+  prior.distance_scale_sigma = scale_observable ? kDistanceScalePriorSigma : 0.0;
+  prior.heading_rate_bias_sigma_rad_s = kHeadingRateBiasPriorSigma_rad_s;
   return prior;
 }
 
@@ -221,7 +221,7 @@ void EkfSlam::checkBiasObservable(int64_t range_utime) {
 
 void EkfSlam::runStep(const Step& step, bool live) {
   if (step.index == bias_release_step_)
-    filter_.releaseHeadingRateBias(rerun_bias_var_ > 0.0 ? rerun_bias_var_ : std::pow(config_.gyro_bias_sigma_rad_s, 2));
+    filter_.releaseHeadingRateBias(rerun_bias_var_ > 0.0 ? rerun_bias_var_ : std::pow(kHeadingRateBiasPriorSigma_rad_s, 2));
   for (const Insert& insert : step.inserts) {
     filter_.addBeacon(insert.id, insert.world_m, insert.cov_m2);
     map_dirty_ = true;

@@ -9,7 +9,7 @@
 // filter's calibration from the start pose): the path's heading error a random walk in blocks of
 // init_window_block_s seconds (prior: the sum of the filter's own per-step heading variances,
 // wheelHeadingVariance with the odo_heading_* keys), the map (started at the filter's), the range
-// scale with its prior (1 +- range_scale_sigma), the offset held at the filter's; a range is an
+// scale with its prior (1 +- kRangeScalePriorSigma), the offset held at the filter's; a range is an
 // inlier N(0, (c sigma)^2) or an outlier of flat density equal to the inlier's at the range gate
 // (sigma the filter's; c >= 1 the inliers' scatter about the held fit, below). Used only where
 // the window's ranges refute the dead-reckoned path: twice the log-posterior gain over the same
@@ -65,7 +65,7 @@ void EkfSlam::solveEarlyWindow() {
   if (problem.landmarks_m.empty()) return;
   problem.range_scale = filter_.scale();
   problem.range_offset_m = filter_.offset();
-  if (filter_.withBias()) problem.range_scale_prior_sigma = config_.range_scale_sigma;
+  if (filter_.withBias()) problem.range_scale_prior_sigma = kRangeScalePriorSigma;
   problem.block_s = config_.init_window_block_s;
   // A range beyond the filter's gate is an outlier: the inlier N(0, sigma^2) against a flat
   // outlier density equal to the inlier's at the gate (a redescending weight; Huber's linear

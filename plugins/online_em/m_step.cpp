@@ -59,7 +59,7 @@ void OnlineEmSlam::mStep() {
       h(offset_index[a], offset_index[a]) += 1.0 / (f * config_.beacon_range_offset_sigma_m * config_.beacon_range_offset_sigma_m);
     }
   }
-  const double ps = 1.0 / (config_.range_scale_prior_sigma * config_.range_scale_prior_sigma);
+  const double ps = 1.0 / (kRangeScalePriorSigma * kRangeScalePriorSigma);
   const double pb = 1.0 / (config_.range_offset_prior_sigma_m * config_.range_offset_prior_sigma_m);
   h(is, is) += ps;
   g[is] += ps * 1.0;
@@ -190,8 +190,8 @@ void OnlineEmSlam::adaptMotionNoise(const std::vector<StepObservation>& observat
 void OnlineEmSlam::calibrationMStep() {
   if (!config_.calibrate_odometry || config_.motion_model != OnlineEmConfig::MotionModel::kOdometry || motion_steps_ == 0 || replaying_) return;
   const double n = static_cast<double>(motion_steps_);
-  const double ps = 1.0 / (config_.distance_scale_prior_sigma * config_.distance_scale_prior_sigma);
-  const double pb = 1.0 / (config_.heading_rate_bias_prior_sigma_rad_s * config_.heading_rate_bias_prior_sigma_rad_s);
+  const double ps = 1.0 / (kDistanceScalePriorSigma * kDistanceScalePriorSigma);
+  const double pb = 1.0 / (kHeadingRateBiasPriorSigma_rad_s * kHeadingRateBiasPriorSigma_rad_s);
   Eigen::Matrix2d h = n * calibration_information_;
   h(0, 0) += ps;
   h(1, 1) += pb;

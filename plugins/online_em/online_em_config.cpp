@@ -34,14 +34,10 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
               "use the odometry's own covariance, floored by the configured noise");
   options.add("calibrate_odometry", &c->calibrate_odometry,
               "estimate the distance scale and heading-rate bias in the M-step");
-  options.add("distance_scale_prior_sigma", &c->distance_scale_prior_sigma, "prior sigma of the distance scale around 1")
-      .min(0.0, false);
   options.add("distance_scale_particle_sigma", &c->distance_scale_particle_sigma,
               "per-particle distance-scale deviation sigma (fraction; 0: off)").min(0.0);
   options.add("distance_scale_particle_length_m", &c->distance_scale_particle_length_m,
               "correlation length (distance travelled) of the per-particle distance-scale deviation").min(0.0, false);
-  options.add("heading_rate_bias_prior_sigma_rad_s", &c->heading_rate_bias_prior_sigma_rad_s,
-              "prior sigma of the heading-rate bias around 0").min(0.0, false);
   options.add("heading_rate_bias_max_drift_rad", &c->heading_rate_bias_max_drift_rad,
               "fix the heading-rate bias at 0 if its prior turns the heading more than this between position fixes (0: always estimate)")
       .min(0.0);
@@ -95,8 +91,6 @@ void addOnlineEmOptions(Options& options, OnlineEmConfig* c) {
   options.add("mstep_every", &c->mstep_every, "M-step every k observing steps").min(1);
   options.add("estimate_range_scale", &c->estimate_range_scale, "range scale in theta");
   options.add("estimate_range_offset", &c->estimate_range_offset, "range offset in theta");
-  options.add("range_scale_prior_sigma", &c->range_scale_prior_sigma, "prior sigma of the scale around 1")
-      .min(0.0, false);
   options.add("range_offset_prior_sigma_m", &c->range_offset_prior_sigma_m, "prior sigma of the offset around 0")
       .min(0.0, false);
   options.add("beacon_prior_sigma_m", &c->beacon_prior_sigma_m, "surveyed beacon sigma if not given")

@@ -3,6 +3,7 @@
 // the plugin shim, the tools and the tests share it so that a key has one definition.
 #pragma once
 
+#include "roam/calibration_priors.hpp"
 #include "roam/options.hpp"
 
 namespace roam {
@@ -72,12 +73,11 @@ struct OnlineEmConfig {
   // Odometry calibration in theta: distance scale s (true distance = s * reported) and
   // heading-rate bias b (rad/s, a gyro bias), estimated in the M-step from the smoothed
   // increments (the transition density is Gaussian and linear in (s, b): an exact quadratic
-  // M-step, see odometry calibration in online_em_slam.hpp). Priors (pseudo-observations):
-  // s ~ N(1, 0.05^2) (wheel or DVL odometry is good to a few %), b ~ N(0, 0.01^2 rad/s) (a MEMS
-  // gyro's bias is a fraction of a degree per second). calibrate_odometry = false keeps s = 1,
-  // b = 0 for odometry known to be clean.
+  // M-step, see odometry calibration in online_em_slam.hpp). Priors (pseudo-observations): the
+  // shared ones (roam/calibration_priors.hpp), s ~ N(1, kDistanceScalePriorSigma^2) and
+  // b ~ N(0, kHeadingRateBiasPriorSigma_rad_s^2). calibrate_odometry = false keeps s = 1, b = 0
+  // for odometry known to be clean.
   bool calibrate_odometry = true;
-  double distance_scale_prior_sigma = 0.05;
   // Per-particle distance-scale spread (calibrate_odometry, odometry model): each particle
   // carries its own fractional deviation d_k from the learned s, an AR(1) process of stationary
   // sigma distance_scale_particle_sigma (the prior sigma of s: the cloud spans the scales the
@@ -97,18 +97,16 @@ struct OnlineEmConfig {
     return calibrate_odometry && distance_scale_particle_sigma > 0.0 && motion_model == MotionModel::kOdometry &&
            (anchor == Anchor::kBeacons || !estimate_range_scale);
   }
-  double heading_rate_bias_prior_sigma_rad_s = 0.01;
   // Observability of the heading-rate bias (the EKF's gyro_bias_max_drift_rad, same rule and
   // value: estimation::BiasObservability): the ranges re-fix the heading about every three
   // position fixes; over that time the bias prior turns it by prior_sigma x 3 x (mean interval
   // between the fix times of the first 20 ranges). Above this, the bias is fixed at 0 (the
   // distance scale is still estimated) and the run ends with a note: the particles cannot tell
   // it from the heading noise, and what the M-step learned for it (1e-4-1e-3 rad/s on AUV-like
-  // runs with none) rotated the path by tens of metres. 0.08 rad: UWB rates (Plaza 1, 2 Hz
-  // synthetic: <= 0.016 rad; a slow UWB robot ranging every 2 s: 0.06) estimate it, AUV rates
-  // (synthetic 3.3 s per fix: 0.099 rad; GOATS 16: 0.185) do not. Until the 20th range b is held at 0 (its statistics accumulate all
-  // along). 0: always estimate.
-  double heading_rate_bias_max_drift_rad = 0.08;
+  // runs with none) rotated the path by tens of metres. The shared kHeadingRateBiasMaxDrift_rad
+  // (0.08 rad, roam/calibration_priors.hpp): UWB rates estimate it, AUV rates do not. Until the
+  // 20th range b is held at 0 (its statistics accumulate all along). 0: always estimate.
+  double heading_rate_bias_max_drift_rad = kHeadingRateBiasMaxDrift_rad;
   // A vehicle standing still does not turn. A standstill by the shared rule
   // (roam/estimation/standstill.hpp: stationary_min_steps steps in a row slower than
   // stationary_speed_mps, each turning at the rate of the one before within 3 sigma; the EKF's
@@ -263,7 +261,7 @@ struct OnlineEmConfig {
   // calibration. Turn it on for radios known to carry one.
   bool estimate_range_scale = true;
   bool estimate_range_offset = false;
-  double range_scale_prior_sigma = 0.1;
+  // The scale's prior (about 1) is the shared kRangeScalePriorSigma (roam/calibration_priors.hpp).
   double range_offset_prior_sigma_m = 1.0;
   // Prior sigma of a surveyed beacon whose covariance is not given (anchor = beacons).
   double beacon_prior_sigma_m = 0.1;

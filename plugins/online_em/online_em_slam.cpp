@@ -55,7 +55,7 @@ OnlineEmSlam::OnlineEmSlam(const OnlineEmConfig& config)
                config_.motion_model == OnlineEmConfig::MotionModel::kOdometry;
   mixture_weight0_ = config_.mixture_weight0;
   inlier_sigma0_ = config_.mixture_sigma0;
-  bias_rate_ = estimation::BiasObservability(config_.heading_rate_bias_prior_sigma_rad_s, config_.heading_rate_bias_max_drift_rad);
+  bias_rate_ = estimation::BiasObservability(kHeadingRateBiasPriorSigma_rad_s, config_.heading_rate_bias_max_drift_rad);
   standstill_ = estimation::Standstill({config_.stationary_speed_mps, config_.stationary_min_steps, kStandstillGateChi2});
   setDiagnostic("num_particles", n);
 }

@@ -67,7 +67,7 @@ void OnlineEmSlam::correctFrame() {
     angle_rad = 0.0;
     translation_m.setZero();
   } else if (recording_ && heading_rate_bias_sigma_rad_s_ <
-                               config_.rerun_bias_sigma_fraction * config_.heading_rate_bias_prior_sigma_rad_s) {
+                               config_.rerun_bias_sigma_fraction * kHeadingRateBiasPriorSigma_rad_s) {
     rerun_pending_ = true;  // replaces the correction, after this step
     return;
   }
@@ -203,7 +203,7 @@ void OnlineEmSlam::solveEarlyWindow() {
   }
   problem.range_scale = range_scale_;
   problem.range_offset_m = range_offset_m_;
-  if (config_.estimate_range_scale) problem.range_scale_prior_sigma = config_.range_scale_prior_sigma;
+  if (config_.estimate_range_scale) problem.range_scale_prior_sigma = kRangeScalePriorSigma;
   // The heading walk of the shared wheel-odometry model (estimation::WheelHeadingNoise, its
   // defaults): a turn's scale error, a walk per metre driven and a small per-step floor, so a
   // vehicle standing still does not turn the frame.

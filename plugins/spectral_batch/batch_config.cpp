@@ -30,13 +30,10 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
   o.add("estimate_range_offset", &c->estimate_range_offset, "estimate a shared range offset");
   o.add("estimate_odometry_calibration", &c->estimate_odometry_calibration,
         "estimate the odometry distance scale and heading-rate (gyro) bias");
-  o.add("heading_rate_bias_sigma_rad_s", &c->heading_rate_bias_sigma_rad_s,
-        "prior sigma of the heading-rate bias (rad/s)").min(0.0, false);
   o.add("heading_rate_bias_max_drift_rad", &c->heading_rate_bias_max_drift_rad,
         "ranges sparser than this heading turn (rad) over three fixes under the bias prior are sparse (<= 0: never)");
   o.add("sparse_heading_as_stated", &c->sparse_heading_as_stated,
         "anchor = start_pose, sparse ranges: the odometry heading noise as the log states it, bias held at 0");
-  o.add("distance_scale_sigma", &c->distance_scale_sigma, "prior sigma of the odometry distance scale").min(0.0, false);
   o.add("estimate_noise_scale", &c->estimate_noise_scale,
         "widen the odometry noise by profile likelihood where the stated noise is too small");
   o.add("gauge", &c->gauge, {{"window", C::Gauge::kWindow}, {"pinned", C::Gauge::kPinned}},

@@ -3,6 +3,7 @@
 // search on a benchmark run.
 #pragma once
 
+#include "roam/calibration_priors.hpp"
 #include "roam/options.hpp"
 #include "roam/sensor_noise.hpp"
 
@@ -129,7 +130,7 @@ struct SpectralBatchConfig : SensorNoise {
   // scale and the odometry's distance scale trade off with the map's size (nothing in ranges and
   // odometry tells them apart): with no prior the distance scale is held at 1 there and the range
   // scale carries the relative scale; with one, the two priors share it out (0.01 against
-  // distance_scale_sigma 0.05 gives 96 % of it to the odometry). 0 by default: Plaza 1's UWB
+  // kDistanceScalePriorSigma 0.05 gives 96 % of it to the odometry). 0 by default: Plaza 1's UWB
   // ranges are 6.5 % long (its surveyed beacons say so, anchor = beacons: range scale 1.065,
   // distance scale 1.00), so a tight prior on the range scale moves that into the map (start
   // pose 0.35 -> 1.45 m). > 0 for a radio or sound speed known to that fraction.
@@ -140,17 +141,18 @@ struct SpectralBatchConfig : SensorNoise {
   double range_offset_sigma_m = 2.0;
 
   // Odometry calibration (estimation::OdometryCalibration) as two more unknowns of the problem,
-  // with Gaussian priors from the sensors: a heading-rate bias b (rad/s; a MEMS gyro's bias is
-  // up to ~0.5 deg/s ~ 0.01 rad/s, so sigma 0.01) and a distance scale s (wheel radius or a DVL's
-  // scale, a few percent: sigma 0.05). They cost nothing where there is no bias (the prior holds
-  // them at 1 and 0 to within what the ranges can tell). false: held at s = 1, b = 0.
+  // with the shared Gaussian priors (roam/calibration_priors.hpp): a heading-rate bias b ~ 0 +-
+  // kHeadingRateBiasPriorSigma_rad_s (0.01 rad/s, a MEMS gyro's bias; also the half-width / 3 of
+  // the bias scan) and a distance scale s ~ 1 +- kDistanceScalePriorSigma (0.05). They cost nothing
+  // where there is no bias (the prior holds them at 1 and 0 to within what the ranges can tell).
+  // false: held at s = 1, b = 0.
   bool estimate_odometry_calibration = true;
-  double heading_rate_bias_sigma_rad_s = 0.01;
   // The rule of the EKF and online EM on how often the ranges fix the position
   // (roam/estimation/bias_observability.hpp): where over three fixes the bias prior above would
   // turn the heading by more than this (rad), the ranges come too seldom to correct the heading
-  // between fixes (AUV rates: GOATS 16 0.185 rad; UWB rates <= 0.06). <= 0: always dense.
-  double heading_rate_bias_max_drift_rad = 0.08;
+  // between fixes (AUV rates: GOATS 16 0.185 rad; UWB rates <= 0.06): the shared
+  // kHeadingRateBiasMaxDrift_rad (roam/calibration_priors.hpp). <= 0: always dense.
+  double heading_rate_bias_max_drift_rad = kHeadingRateBiasMaxDrift_rad;
   // anchor = start_pose where the rule above finds the ranges sparse and every odometry message
   // states a covariance: the heading noise is the stated one (floored by odo_heading_sigma_rad),
   // not the wheel model below (odo_heading_sigma_per_sqrt_m, _rel), the heading-rate bias is held
@@ -161,7 +163,6 @@ struct SpectralBatchConfig : SensorNoise {
   // heading stated to 0.002 rad (true to 0.001). A log that states nothing keeps the wheel model
   // and the window. false: the wheel model everywhere.
   bool sparse_heading_as_stated = true;
-  double distance_scale_sigma = 0.05;
   // Odometry noise scale estimated from the data: after a solve, every odometry sigma times
   // k = 2, 4, ... 32 is tried, each a warm solve, while the Gaussian likelihood improves (a profile
   // likelihood over k). The configured (or reported) noise is the floor: never narrowed. A log's

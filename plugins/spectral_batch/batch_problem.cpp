@@ -147,7 +147,7 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
   const bool calibrate_odometry = config.estimate_odometry_calibration && !problem.odometry.empty();
   if (calibrate_odometry)
     ceres_problem.AddResidualBlock(
-        OdometryCalibrationPrior::create(config.distance_scale_sigma, config.heading_rate_bias_sigma_rad_s),
+        OdometryCalibrationPrior::create(kDistanceScalePriorSigma, kHeadingRateBiasPriorSigma_rad_s),
         nullptr, odometry_calibration);
   else if (!problem.odometry.empty())
     ceres_problem.SetParameterBlockConstant(odometry_calibration);

@@ -42,7 +42,7 @@ void SpectralBatchSlam::decideHeadingAsStated(bool final) {
   if (odometry_.empty() ||
       !std::all_of(odometry_.begin(), odometry_.end(), [](const Odometry& o) { return o.hasCovariance(); }))
     return;
-  estimation::BiasObservability rule(config_.heading_rate_bias_sigma_rad_s, config_.heading_rate_bias_max_drift_rad);
+  estimation::BiasObservability rule(kHeadingRateBiasPriorSigma_rad_s, config_.heading_rate_bias_max_drift_rad);
   for (const Range& range : ranges_)
     if (rule.addRange(range.utime) != estimation::BiasObservability::Decision::kUndecided) break;
   heading_as_stated_ = rule.decision() == estimation::BiasObservability::Decision::kHold;
@@ -100,7 +100,7 @@ double SpectralBatchSlam::scanHeadingRateBias(const std::vector<Tie>& tied) cons
   // the cost is unimodal over the +-10 fine steps, in ~3-6 scores instead of 20 (each score is a
   // dead reckoning and a robust multilateration of every beacon: most of the scan's time).
   const double duration_s = 1e-6 * static_cast<double>(pose_utime_.back() - pose_utime_.front());
-  const double span = 3.0 * config_.heading_rate_bias_sigma_rad_s;
+  const double span = 3.0 * kHeadingRateBiasPriorSigma_rad_s;
   double best = 0.0, best_cost = score(0.0);
   double step = span / 15.0;
   for (int i = -15; i <= 15; ++i) {

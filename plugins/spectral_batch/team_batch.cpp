@@ -57,7 +57,6 @@ void TeamBatch::finish() {
   TeamSolveOptions options;
   options.range_sigma_m = config_.range_sigma_m;
   options.estimate_odometry_calibration = config_.estimate_odometry_calibration;
-  options.distance_scale_prior_sigma = config_.distance_scale_sigma;
   const SpectralBatchConfig config = config_;
   options.increment_covariance = [config](const Odometry& odometry, double dt_s) {
     return odometryCovariance(config, odometry, dt_s);

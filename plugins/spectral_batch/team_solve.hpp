@@ -68,9 +68,8 @@ struct TeamSolveOptions {
   std::function<Eigen::Matrix3d(const Odometry&, double dt_s)> increment_covariance;
   double range_sigma_m = 0.1;  // where a range states none (sigma_m <= 0)
   bool estimate_odometry_calibration = true;
-  // Calibration priors (<= 0: none). The bias prior is the shared one (calibration_priors.hpp);
-  // the distance scale's is spectral_batch's default (batch_config.hpp distance_scale_sigma).
-  double distance_scale_prior_sigma = 0.05;
+  // Calibration priors (<= 0: none): the shared ones (calibration_priors.hpp).
+  double distance_scale_prior_sigma = kDistanceScalePriorSigma;
   double heading_rate_bias_prior_sigma_rad_s = kHeadingRateBiasPriorSigma_rad_s;
   // Huber's scale on the whitened range and bearing residuals: see team_solve.cpp.
   double huber_scale = 2.0;

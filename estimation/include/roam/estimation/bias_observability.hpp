@@ -10,7 +10,8 @@
 // ranges 6.17 s apart by fix, 0.185 rad; synthetic AUV runs 3.3 s, 0.099 rad): what they learned
 // for it there was outliers and odometry noise, and it rotated the path by tens of metres. At
 // UWB rates (Plaza 1, 2 Hz synthetic: <= 0.016 rad; a slow robot ranging every 2 s: 0.06 rad)
-// they estimate it (the estimators' threshold: 0.08 rad). max_drift_rad <= 0: always estimate.
+// they estimate it (the estimators' threshold: kHeadingRateBiasMaxDrift_rad, 0.08 rad, in
+// roam/calibration_priors.hpp). max_drift_rad <= 0: always estimate.
 // A rule on the rate alone: a robot with clean ranges fixing its position less often is held as
 // well, and says so (heldNote).
 #pragma once

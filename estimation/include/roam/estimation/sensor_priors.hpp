@@ -13,6 +13,8 @@ namespace roam {
 namespace estimation {
 
 using roam::kBeaconOffsetPriorSigma_m;
+using roam::kDistanceScalePriorSigma;
+using roam::kHeadingRateBiasMaxDrift_rad;
 using roam::kHeadingRateBiasPriorSigma_rad_s;
 using roam::kRangeOffsetPriorSigma_m;
 using roam::kRangeScalePriorSigma;
