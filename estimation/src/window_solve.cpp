@@ -39,28 +39,23 @@ WindowSolution solveWindow(const WindowProblem& problem) {
   }
   const int num_blocks = static_cast<int>(block_first.size());
   out.heading_blocks = num_blocks;
-  const bool with_bias = problem.bias_prior_sigma_rad_s > 0.0;
   const bool with_range_scale = problem.range_scale_prior_sigma > 0.0;
-  const int i_block = 2 * num_landmarks, i_bias = i_block + num_blocks;
-  const int i_range_scale = i_bias + (with_bias ? 1 : 0);
+  const int i_block = 2 * num_landmarks, i_range_scale = i_block + num_blocks;
   const int num = i_range_scale + (with_range_scale ? 1 : 0);
   double rs = problem.range_scale;
 
   std::vector<Eigen::Vector2d> landmarks = problem.landmarks_m;
   Eigen::VectorXd c = Eigen::VectorXd::Zero(num_blocks);
-  double bias = 0.0;
-  std::vector<Eigen::Vector2d> q(m + 1), bias_sum(m + 1);
+  std::vector<Eigen::Vector2d> q(m + 1);
   std::vector<double> turn(m);
   auto buildPath = [&] {
     q[0] = problem.path[0].head<2>();
-    bias_sum[0].setZero();
     double cumulative = 0.0;
     for (int j = 0; j < m; ++j) {
       if (block_first[block[j]] == j) cumulative += c[block[j]];
-      turn[j] = cumulative + bias * problem.time_s[j];
+      turn[j] = cumulative;
       const Eigen::Vector2d d = problem.path[j + 1].head<2>() - problem.path[j].head<2>();
       q[j + 1] = q[j] + Eigen::Rotation2Dd(turn[j]) * d;
-      bias_sum[j + 1] = bias_sum[j] + problem.time_s[j] * (q[j + 1] - q[j]);
     }
   };
   buildPath();
@@ -95,7 +90,6 @@ WindowSolution solveWindow(const WindowProblem& problem) {
         if (j + 1 > s) dq += f * perp(q[j + 1] - q[s]);
         row[i_block + k] = dx.dot(dq);
       }
-      if (with_bias) row[i_bias] = dx.dot(perp((1.0 - f) * bias_sum[j] + f * bias_sum[j + 1]));
       if (with_range_scale) row[i_range_scale] = distance;
       h.selfadjointView<Eigen::Lower>().rankUpdate(row, w);
       g += w * e * row;
@@ -109,12 +103,6 @@ WindowSolution solveWindow(const WindowProblem& problem) {
       g[i_block + k] -= information * c[k];
       log_posterior -= 0.5 * information * c[k] * c[k];
     }
-    if (with_bias) {
-      const double information = 1.0 / (problem.bias_prior_sigma_rad_s * problem.bias_prior_sigma_rad_s);
-      h(i_bias, i_bias) += information;
-      g[i_bias] -= information * bias;
-      log_posterior -= 0.5 * information * bias * bias;
-    }
     if (with_range_scale) {
       const double information = 1.0 / (problem.range_scale_prior_sigma * problem.range_scale_prior_sigma);
       h(i_range_scale, i_range_scale) += information;
@@ -126,7 +114,6 @@ WindowSolution solveWindow(const WindowProblem& problem) {
     if (!step.allFinite()) return out;
     for (int i = 0; i < num_landmarks; ++i) landmarks[i] += step.segment<2>(2 * i);
     c += step.segment(i_block, num_blocks);
-    if (with_bias) bias += step[i_bias];
     if (with_range_scale) rs += step[i_range_scale];
     buildPath();
   }
@@ -143,7 +130,6 @@ WindowSolution solveWindow(const WindowProblem& problem) {
   }
   out.landmarks_m = landmarks;
   out.log_posterior = log_posterior;
-  out.bias_rad_s = bias;
   out.range_scale = rs;
   out.solved = true;
   return out;
@@ -151,7 +137,6 @@ WindowSolution solveWindow(const WindowProblem& problem) {
 
 WindowProblem withPathHeld(WindowProblem problem) {
   for (double& v : problem.heading_variance_rad2) v = 1e-16;
-  problem.bias_prior_sigma_rad_s = 0.0;
   return problem;
 }
 

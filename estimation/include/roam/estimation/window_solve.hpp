@@ -4,12 +4,12 @@
 //
 // Model (the filter's own, restricted to the window; MAP by iteratively reweighted Gauss-Newton):
 // the nominal path p_0 .. p_m (the filter's mean poses; p_0 = the known start pose) is off by a
-// heading error that grows as the odometry's heading random walk, plus optionally a heading-rate
-// bias b:
-//   q_0 = p_0,  q_{j+1} = q_j + R(D_j) (p_{j+1} - p_j),  D_j = C_{k(j)} + b t_j,
+// heading error that grows as the odometry's heading random walk (a heading-rate bias is the
+// filter's, already in the nominal path):
+//   q_0 = p_0,  q_{j+1} = q_j + R(D_j) (p_{j+1} - p_j),  D_j = C_{k(j)},
 //   C_k = c_0 + ... + c_k (piecewise constant over blocks of block_s seconds, k(j) the block of
 //   step j), c_k ~ N(0, sum of the block's per-step heading variances: the random walk's
-//   increment over the block), b ~ N(0, sigma_b^2). (The distance scale is left out: from the start pose it is a
+//   increment over the block). (The distance scale is left out: from the start pose it is a
 //   gauge with the range scale, fixed only by their priors.)
 // A range r to landmark i, taken a fraction f into step j, reads
 //   r = rs |m_i - x| + off + delta,  x = q_j + f (q_{j+1} - q_j),
@@ -18,8 +18,7 @@
 // delta the filter's mixture: each iteration weighs a range by its posterior inlier probability
 // over the inlier variance (weight(), the EM of the mixture with the indicators marginalised).
 // Jacobians (exact for this parametrisation): dq_j/dc_k = J (q_j - q_{s_k}) for j > s_k (the path
-// after the block's first pose turns about it), dq_j/db = J sum_{i<j} t_i (q_{i+1} - q_i),
-// J = [[0, -1], [1, 0]]. The start pose fixes the gauge.
+// after the block's first pose turns about it), J = [[0, -1], [1, 0]]. The start pose fixes the gauge.
 #pragma once
 
 #include <functional>
@@ -48,7 +47,6 @@ struct WindowProblem {
   double range_scale_prior_sigma = 0.0;
   std::vector<double> heading_variance_rad2;  // per step: the heading walk's increment variance
   double block_s = 5.0;
-  double bias_prior_sigma_rad_s = 0.0;    // 0: no bias unknown
   int iterations = 10;
   // (1 - P(outlier)) / inlier variance of range r with residual e_m (range minus prediction);
   // *log_likelihood = its mixture log-likelihood.
@@ -58,7 +56,6 @@ struct WindowProblem {
 struct WindowSolution {
   std::vector<Eigen::Vector3d> path;  // corrected poses
   std::vector<Eigen::Vector2d> landmarks_m;
-  double bias_rad_s = 0.0;
   double range_scale = 1.0;
   double end_turn_sigma_rad = 0.0;  // posterior sigma of the heading correction at the end
   double log_posterior = 0.0;       // at the solution: ranges' mixture log-likelihood + log priors
@@ -68,7 +65,7 @@ struct WindowSolution {
 
 WindowSolution solveWindow(const WindowProblem& problem);
 
-// The same problem with the path held at its nominal poses (heading walk and bias pinned; the
+// The same problem with the path held at its nominal poses (heading walk pinned; the
 // landmarks and the range scale still free): the null hypothesis of the likelihood-ratio test
 // that decides whether a window's ranges refute its dead-reckoned path (twice the gain in
 // log_posterior of the free solve over this one).
