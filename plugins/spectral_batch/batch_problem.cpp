@@ -186,12 +186,12 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     double* beacon = state->beacons[range.beacon].data();
     double* beacon_offset = &state->beacon_offsets_m[range.beacon];
     if (range.alpha == 0.0 || static_cast<size_t>(range.pose) + 1 == num_poses) {
-      range_blocks.push_back(ceres_problem.AddResidualBlock(RangeAtPoseResidual::create(range.range_m, range.sigma_m * problem.range_sigma_factor),
+      range_blocks.push_back(ceres_problem.AddResidualBlock(RangeAtPoseResidual::create(range.range_m, range.sigma_m),
                                      range_loss, state->poses[range.pose].data(), beacon,
                                      calibration, beacon_offset));
     } else {
       range_blocks.push_back(ceres_problem.AddResidualBlock(
-          RangeAlongStepResidual::create(range.range_m, range.sigma_m * problem.range_sigma_factor, range.alpha), range_loss,
+          RangeAlongStepResidual::create(range.range_m, range.sigma_m, range.alpha), range_loss,
           state->poses[range.pose].data(), state->poses[range.pose + 1].data(), beacon,
           calibration, beacon_offset));
     }

@@ -43,10 +43,9 @@ struct Problem {
   // anchor = beacons: a prior on pose 0 from INITIAL_POSE (sigmas x, y, heading; 0: none).
   std::array<double, 3> start_prior_pose{0.0, 0.0, 0.0};
   std::array<double, 3> start_prior_sigma{0.0, 0.0, 0.0};
-  // Every odometry sigma and every range sigma times these (the odometry's estimated where the
-  // stated noise is too small, estimate_noise_scale; the plugin holds the range's at 1).
+  // Every odometry sigma times this (estimated where the stated noise is too small,
+  // estimate_noise_scale).
   double odometry_sigma_factor = 1.0;
-  double range_sigma_factor = 1.0;
   // sparse_heading_as_stated in force (batch_config.hpp): each step's heading noise as its
   // odometry message states it (odometryCovariance) and the heading-rate bias held at its value.
   bool heading_as_stated = false;

@@ -226,7 +226,7 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
                                                           bool fix_first_heading,
                                                           const std::vector<Tie>& tied,
                                                           bool evaluate_only,
-                                                          const std::array<double, 2>& noise_factors,
+                                                          double odometry_noise_factor,
                                                           const std::array<double, 2>& odometry_calibration) const {
   auto positionAt = [&poses](const Tie& t) -> std::array<double, 2> {
     const auto& a = poses[t.pose];
@@ -314,8 +314,7 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
     state.calibration = calibration_;
     state.odometry_calibration = odometry_calibration_;
   }
-  problem.odometry_sigma_factor = noise_factors[0];
-  problem.range_sigma_factor = noise_factors[1];
+  problem.odometry_sigma_factor = odometry_noise_factor;
   problem.heading_as_stated = heading_as_stated_;
   if (heading_as_stated_) state.odometry_calibration[1] = 0.0;
   problem.from_seed = true;
@@ -352,11 +351,10 @@ SpectralBatchSlam::Candidate SpectralBatchSlam::solveFrom(std::vector<std::array
   return out;
 }
 
-double SpectralBatchSlam::costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const {
+double SpectralBatchSlam::costWithNoise(const Candidate& candidate, double odometry_noise_factor) const {
   spectral_batch::Problem problem = candidate.problem;
   spectral_batch::State state = candidate.state;
-  problem.odometry_sigma_factor = noise_factors[0];
-  problem.range_sigma_factor = noise_factors[1];
+  problem.odometry_sigma_factor = odometry_noise_factor;
   return spectral_batch::solve(config_, problem, &state, true).final_cost;
 }
 
@@ -415,11 +413,11 @@ void SpectralBatchSlam::solveNow(bool final) {
   if (dead_reckoning_only)
     poses = spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
   Candidate best = solveFrom(std::move(poses), seeded_by_spectral ? &spectral_map : nullptr,
-                             !seeded_by_spectral, !seeded_by_spectral_, tied, false, noise_factors_,
+                             !seeded_by_spectral, !seeded_by_spectral_, tied, false, odometry_noise_factor_,
                              dead_reckoning_only ? scanned_calibration : odometry_calibration_);
   lap("first solve");
   bool from_spectral = seeded_by_spectral_;
-  std::array<double, 2> factors{best.problem.odometry_sigma_factor, best.problem.range_sigma_factor};
+  double factor = best.problem.odometry_sigma_factor;
   Candidate alone;  // final: dead reckoning with its multilaterated beacons, evaluated
   if (final) {
     // The odometry-alone hypothesis: dead reckoning, beacons multilaterated (robustly) from it.
@@ -429,29 +427,26 @@ void SpectralBatchSlam::solveNow(bool final) {
     if (compare) {
       const std::vector<std::array<double, 3>> dr_biased =
           spectral_batch::deadReckon(start_pose_, odometry_, dt_s_, estimation::OdometryCalibration{1.0, bias_rad_s});
-      Candidate from_dr = solveFrom(dr_biased, nullptr, false, true, tied, false, noise_factors_, scanned_calibration);
+      Candidate from_dr = solveFrom(dr_biased, nullptr, false, true, tied, false, odometry_noise_factor_, scanned_calibration);
       lap("dead-reckoning solve");
       if (from_dr.summary.usable) {
-        const std::array<double, 2> common{
-            std::max(factors[0], from_dr.problem.odometry_sigma_factor),
-            std::max(factors[1], from_dr.problem.range_sigma_factor)};
+        const double common = std::max(factor, from_dr.problem.odometry_sigma_factor);
         const double cost_spectral = best.summary.usable ? costWithNoise(best, common) : HUGE_VAL;
         const double cost_dr = costWithNoise(from_dr, common);
         if (config_.verbose)
           std::cerr << "spectral_batch: robust cost from the spectral seed " << cost_spectral
-                    << ", from dead reckoning " << cost_dr << " (noise scales " << common[0] << ", "
-                    << common[1] << ")\n";
+                    << ", from dead reckoning " << cost_dr << " (odometry noise scale " << common << ")\n";
         if (cost_dr < cost_spectral) {
           best = std::move(from_dr);
           from_spectral = false;
         }
       }
-      factors = {best.problem.odometry_sigma_factor, best.problem.range_sigma_factor};
+      factor = best.problem.odometry_sigma_factor;
     }
     lap("comparison");
-    alone = solveFrom(dr, nullptr, false, true, tied, true, factors, {1.0, 0.0});
+    alone = solveFrom(dr, nullptr, false, true, tied, true, factor, {1.0, 0.0});
     odometry_alone_cost_ = alone.summary.final_cost;
-    best_cost_ = costWithNoise(best, factors);
+    best_cost_ = costWithNoise(best, factor);
     lap("odometry alone");
     setDiagnostic("odometry_alone_cost", odometry_alone_cost_);
   }
@@ -467,9 +462,8 @@ void SpectralBatchSlam::solveNow(bool final) {
   }
   lap("gauge");
   if (config_.verbose) std::cerr << "spectral_batch: thread CPU:" << times.str() << "\n";
-  noise_factors_ = factors;
-  setDiagnostic("odometry_noise_scale", factors[0]);
-  setDiagnostic("range_noise_scale", factors[1]);
+  odometry_noise_factor_ = factor;
+  setDiagnostic("odometry_noise_scale", factor);
   setDiagnostic("init_spectral", from_spectral ? 1.0 : 0.0);
   summary_ = best.summary;
   const spectral_batch::Problem& problem = best.problem;
@@ -483,8 +477,8 @@ void SpectralBatchSlam::solveNow(bool final) {
               << summary_.range_cost << ", " << summary_.range_inliers << " inliers), " << summary_.time_s
               << " s, range scale " << state.calibration[0] << ", offset " << state.calibration[1]
               << " m, distance scale " << state.odometry_calibration[0] << ", heading-rate bias "
-              << state.odometry_calibration[1] << " rad/s, noise scales odometry "
-              << best.problem.odometry_sigma_factor << ", range " << best.problem.range_sigma_factor << "\n"
+              << state.odometry_calibration[1] << " rad/s, odometry noise scale "
+              << best.problem.odometry_sigma_factor << "\n"
               << summary_.report;
   }
   setDiagnostic("solves", solves_);

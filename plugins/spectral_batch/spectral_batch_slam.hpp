@@ -94,7 +94,7 @@ class SpectralBatchSlam : public Estimator {
   // robust multilateration from the poses.
   Candidate solveFrom(std::vector<std::array<double, 3>> poses, const Map* seed_map, bool use_previous,
                       bool fix_first_heading, const std::vector<Tie>& tied, bool evaluate_only,
-                      const std::array<double, 2>& noise_factors,
+                      double odometry_noise_factor,
                       const std::array<double, 2>& odometry_calibration) const;
   // The heading-rate bias whose dead reckoning best explains the ranges (robust cost), scanned
   // over +-3 prior sigmas (coarse to fine).
@@ -108,8 +108,8 @@ class SpectralBatchSlam : public Estimator {
   // cost above half its ranges' count, or too few inliers), so that the dead-reckoning seed is
   // solved too; the reason, when verbose, goes to stderr.
   bool inDoubt(const Candidate& first) const;
-  // The candidate's cost (final loss) with these odometry and range noise scales.
-  double costWithNoise(const Candidate& candidate, const std::array<double, 2>& noise_factors) const;
+  // The candidate's cost (final loss) with this odometry noise scale.
+  double costWithNoise(const Candidate& candidate, double odometry_noise_factor) const;
   // gauge = pinned: turn the solution so that pose 0 has the start heading and re-solve with it
   // held (a dead-reckoning seed is solved so already).
   void pinStartHeading(Candidate* candidate);
@@ -151,7 +151,7 @@ class SpectralBatchSlam : public Estimator {
   bool heading_as_stated_ = false;  // this solve: decideHeadingAsStated
   double odometry_alone_cost_ = 0.0;
   double best_cost_ = 0.0;
-  std::array<double, 2> noise_factors_{1.0, 1.0};  // odometry, range: the latest estimate
+  double odometry_noise_factor_ = 1.0;  // the odometry's noise scale: the latest estimate
   spectral_batch::Summary summary_;
 };
 
