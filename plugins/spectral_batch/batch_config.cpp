@@ -38,7 +38,6 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
         "widen the odometry noise by profile likelihood where the stated noise is too small");
   o.add("gauge", &c->gauge, {{"window", C::Gauge::kWindow}, {"pinned", C::Gauge::kPinned}},
         "anchor = start_pose: rotation gauge: the gauge_align_m window | pose 0 held at the start heading");
-  o.add("range_offset_sigma_m", &c->range_offset_sigma_m, "prior sigma of the shared range offset (0: none)").min(0.0);
   o.add("start_pose_sigma_m", &c->start_pose_sigma_m, "anchor = beacons: prior sigma of pose 0 at INITIAL_POSE (0: none)").min(0.0);
   o.add("start_heading_sigma_rad", &c->start_heading_sigma_rad, "anchor = beacons: prior heading sigma of pose 0").min(0.0, false);
   o.add("gauge_align_m", &c->gauge_align_m,
@@ -53,7 +52,6 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
   o.add("fallback_deadreckoning", &c->fallback_deadreckoning,
         "an untrusted final solve publishes dead reckoning (with the reason) instead of failing");
   o.add("estimate_beacon_offsets", &c->estimate_beacon_offsets, "estimate a range offset per beacon");
-  o.add("beacon_offset_sigma_m", &c->beacon_offset_sigma_m, "prior sigma of each beacon's range offset").min(0.0, false);
   o.add("range_scale_sigma", &c->range_scale_sigma, "prior sigma of the range scale about 1 (0: none)").min(0.0);
   o.add("resolve_interval_s", &c->resolve_interval_s, "live re-solve interval of data time (0: at the end only)").min(0.0);
   o.add("linear_solver", &c->linear_solver,

@@ -136,10 +136,9 @@ struct SpectralBatchConfig : SensorNoise {
   // distance scale 1.00), so a tight prior on the range scale moves that into the map (start
   // pose 0.35 -> 1.45 m). > 0 for a radio or sound speed known to that fraction.
   double range_scale_sigma = 0.0;
-  // Prior sigma of the shared range offset about 0 (0: none): radio antenna delays and acoustic
-  // turn-around times are decimetres to a couple of metres; 2 m keeps heavy one-sided outliers
-  // (NLOS is always long) from dragging the offset to tens of metres.
-  double range_offset_sigma_m = 2.0;
+  // The shared range offset's prior (about 0) is the shared kRangeOffsetPriorSigma_m
+  // (roam/calibration_priors.hpp): it also keeps heavy one-sided outliers (NLOS is always long)
+  // from dragging the offset to tens of metres.
 
   // Odometry calibration (estimation::OdometryCalibration) as two more unknowns of the problem,
   // with the shared Gaussian priors (roam/calibration_priors.hpp): a heading-rate bias b ~ 0 +-
@@ -171,12 +170,12 @@ struct SpectralBatchConfig : SensorNoise {
   // odometry good to a metre). false: the configured noise as it is.
   bool estimate_noise_scale = true;
 
-  // Per-beacon range offsets (on top of the shared one), each with a zero-mean prior of this
-  // sigma: acoustic beacons and UWB anchors have their own delays (transponder turn-around,
-  // antenna delay) of up to a metre or two. On by default: it costs nothing on Plaza 1, where the
-  // prior holds them near 0, and takes up the per-beacon offsets that a shared offset cannot.
+  // Per-beacon range offsets (on top of the shared one), each with the shared zero-mean prior
+  // kBeaconOffsetPriorSigma_m (roam/calibration_priors.hpp): acoustic beacons and UWB anchors have
+  // their own delays (transponder turn-around, antenna delay). On by default: it costs nothing on
+  // Plaza 1, where the prior holds them near 0, and takes up the per-beacon offsets that a shared
+  // offset cannot.
   bool estimate_beacon_offsets = true;
-  double beacon_offset_sigma_m = 2.0;
 
   // Live mode: re-solve over all data so far every resolve_interval_s of data time, warm-started
   // from the previous solve (0: solve only at the end of input).

@@ -11,6 +11,7 @@
 
 #include "batch_residuals.hpp"
 #include "roam/estimation/motion_model.hpp"
+#include "roam/estimation/sensor_priors.hpp"
 
 namespace roam {
 namespace spectral_batch {
@@ -217,7 +218,7 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
     if (!ceres_problem.HasParameterBlock(offset)) continue;
     if (config.estimate_beacon_offsets)
       ceres_problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ScalarPrior, 1, 1>(
-                                         new ScalarPrior(0.0, config.beacon_offset_sigma_m)),
+                                         new ScalarPrior(0.0, kBeaconOffsetPriorSigma_m)),
                                      nullptr, offset);
     else
       ceres_problem.SetParameterBlockConstant(offset);
@@ -227,9 +228,9 @@ Summary solve(const SpectralBatchConfig& config, const Problem& problem, State* 
                                        new CalibrationPrior(0, 1.0, config.range_scale_sigma)),
                                    nullptr, calibration);
   }
-  if (!problem.ranges.empty() && config.estimate_range_offset && config.range_offset_sigma_m > 0.0)
+  if (!problem.ranges.empty() && config.estimate_range_offset)
     ceres_problem.AddResidualBlock(new ceres::AutoDiffCostFunction<CalibrationPrior, 1, 2>(
-                                       new CalibrationPrior(1, 0.0, config.range_offset_sigma_m)),
+                                       new CalibrationPrior(1, 0.0, kRangeOffsetPriorSigma_m)),
                                    nullptr, calibration);
   if (!problem.ranges.empty()) {
     if (!config.estimate_range_scale && !config.estimate_range_offset) {
