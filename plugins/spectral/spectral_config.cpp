@@ -56,11 +56,7 @@ void addSpectralOptions(Options& o, SpectralConfig* c) {
         "where the run would be refused: leave out each beacon's ranges in stretches entered by a "
         "jump up and left by a jump down beyond the distance travelled between them (NLOS in "
         "stretches) and solve once more");
-  addSensorNoiseOptions(o, c);
-  // The odometry smoother weighs each step by its noise: a zero floor would give a still step
-  // infinite weight.
-  o.require([c] { return c->odo_distance_sigma_m > 0.0 && c->odo_heading_sigma_rad > 0.0; },
-            {"odo_distance_sigma_m", "odo_heading_sigma_rad"}, "odo_distance_sigma_m > 0 and odo_heading_sigma_rad > 0");
+  addSensorNoiseOptions(o, c, OdometryFloors::kPositive);  // its smoother weighs each step by its noise
 }
 
 }  // namespace roam::spectral

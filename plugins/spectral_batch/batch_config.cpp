@@ -65,10 +65,7 @@ void addSpectralBatchOptions(Options& o, SpectralBatchConfig* c) {
   o.add("parameter_tolerance", &c->parameter_tolerance, "Ceres relative step size to stop").min(0.0);
   o.add("num_threads", &c->num_threads, "Ceres threads").min(1);
   o.add("verbose", &c->verbose, "print the solver summary on stderr after every solve");
-  addSensorNoiseOptions(o, c);
-  // A zero floor would give a still step infinite weight.
-  o.require([c] { return c->odo_distance_sigma_m > 0.0 && c->odo_heading_sigma_rad > 0.0; },
-            {"odo_distance_sigma_m", "odo_heading_sigma_rad"}, "odo_distance_sigma_m > 0 and odo_heading_sigma_rad > 0");
+  addSensorNoiseOptions(o, c, OdometryFloors::kPositive);  // its smoother weighs each step by its noise
 }
 
 }  // namespace spectral_batch

@@ -1,5 +1,6 @@
 // roam::Options: typed plugin options whose errors name the key and the broken constraint.
 #include "roam/options.hpp"
+#include "roam/sensor_noise.hpp"
 
 #include <gtest/gtest.h>
 
@@ -62,6 +63,27 @@ TEST(Options, ASharedValueIsADefaultForADeclaredKeyOnly) {
     FAIL() << "no error";
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.key(), "range_sigma_m");
+  }
+}
+
+TEST(Options, PositiveOdometryFloorsAreCheckedWhereTheModelWeighsBySigma) {
+  // kPositive (spectral, spectral + batch: a smoother that divides by each step's sigma) refuses
+  // a zero floor, naming both keys; kMayBeZero (the filters) takes it.
+  for (const char* key : {"odo_distance_sigma_m", "odo_heading_sigma_rad"}) {
+    SensorNoise weighed;
+    Options strict(KeyValues{{key, "0"}});
+    addSensorNoiseOptions(strict, &weighed, OdometryFloors::kPositive);
+    try {
+      strict.parse();
+      FAIL() << key << ": no error";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("odo_distance_sigma_m > 0 and odo_heading_sigma_rad > 0"), std::string::npos) << e.what();
+    }
+    SensorNoise filtered;
+    Options lenient(KeyValues{{key, "0"}});
+    addSensorNoiseOptions(lenient, &filtered);
+    lenient.parse();
+    EXPECT_EQ(filtered.odo_distance_sigma_m * filtered.odo_heading_sigma_rad, 0.0);
   }
 }
 

@@ -39,7 +39,10 @@ struct SensorNoise {
 };
 
 // Declares the [sensors] keys, one list for the runtime's [sensors] section and every plugin.
-void addSensorNoiseOptions(Options& options, SensorNoise* noise);
+// kPositive: the model weighs each odometry step by its inverse variance, so both per-step floors
+// (odo_distance_sigma_m, odo_heading_sigma_rad) must be > 0, or a still step weighs infinitely.
+enum class OdometryFloors { kMayBeZero, kPositive };
+void addSensorNoiseOptions(Options& options, SensorNoise* noise, OdometryFloors floors = OdometryFloors::kMayBeZero);
 
 // The runtime hands a [sensors] value to every estimator as "sensors.<key>"
 // (Options::kSharedPrefix): a plugin that declares <key> takes it unless its own section sets
