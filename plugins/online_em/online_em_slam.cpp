@@ -21,6 +21,8 @@ namespace {
 // The standstill rule's agreement gate between consecutive turn rates (3 sigma; it matters only
 // with stationary_min_steps > 1).
 constexpr double kStandstillGateChi2 = 9.0;
+// exp(x) of a double is exactly +0 for every x below about -745.13 (half the smallest subnormal).
+constexpr double kExpUnderflowsToZero = -746.0;
 
 // Normalises log-weights in place to weights summing to 1 (log-sum-exp).
 // Normalised weights from log weights. A NaN log weight (a likelihood that could not be
@@ -340,7 +342,16 @@ void OnlineEmSlam::smoothStatistics(std::vector<StepObservation>& observations) 
   // K_kl ∝ w_{t-1}^l m(xi_t^k | xi_{t-1}^l), rows normalised.
   motion_.logKernel(previous_, particles_, previous_weights_.log(), &log_kernel_);
   const Eigen::VectorXd row_max = log_kernel_.rowwise().maxCoeff();
-  kernel_ = (log_kernel_.colwise() - row_max).array().exp().matrix();
+  // exp of each entry. Most entries are far below their row's best (particles far apart for the
+  // motion noise) and underflow to exactly 0, which libm's exp reaches by its slow special case:
+  // below kExpUnderflowsToZero the 0 is written directly (the same value, half the smoothing's
+  // time on a Plaza-sized run).
+  kernel_.resize(log_kernel_.rows(), log_kernel_.cols());
+  for (Eigen::Index l = 0; l < log_kernel_.cols(); ++l)
+    for (Eigen::Index k = 0; k < log_kernel_.rows(); ++k) {
+      const double x = log_kernel_(k, l) - row_max(k);
+      kernel_(k, l) = x < kExpUnderflowsToZero ? 0.0 : std::exp(x);
+    }
   const Eigen::VectorXd row_sum = kernel_.rowwise().sum();
   kernel_ = row_sum.cwiseInverse().asDiagonal() * kernel_;
   // Effective number of predecessors per particle, 1 / sum_l K_kl^2, averaged.
