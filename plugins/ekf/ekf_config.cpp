@@ -13,50 +13,18 @@ void addEkfOptions(Options& o, EkfConfig* c) {
   o.add("start_sigma_m", &c->start_sigma_m, "anchor = beacons: start position sigma").min(0.0);
   o.add("start_heading_sigma_rad", &c->start_heading_sigma_rad, "anchor = beacons: start heading sigma").min(0.0);
   o.add("translation_noise_models", &c->translation_noise_models,
-        "anchor = beacons: filters run side by side with the odometry's translation noise 1 ... translation_noise_max_factor times configured; the best predictor of the ranges is published (1: the configured noise alone)").min(1).max(16);
-  o.add("translation_noise_max_factor", &c->translation_noise_max_factor, "largest factor on the translation noise sigma in the bank").min(1.0);
-  o.add("translation_noise_drop_nats", &c->translation_noise_drop_nats, "a model whose range log-likelihood falls this far behind the best is dropped (0: never)").min(0.0);
+        "anchor = beacons: filters run side by side with the odometry's translation noise 1 ... 10 times configured at geometric steps; the best predictor of the ranges is published (1: the configured noise alone)").min(1).max(16);
   o.add("gyro_bias_twins", &c->gyro_bias_twins, "anchor = beacons: where gyro_bias_max_drift_rad holds the heading-rate bias at 0, each model of the bank has a twin that estimates it, and the ranges choose");
   o.add("estimate_odometry_calibration", &c->estimate_odometry_calibration, "estimate odometry distance scale and heading-rate bias as states");
   o.add("gyro_bias_walk_rad_s_per_sqrt_s", &c->gyro_bias_walk_rad_s_per_sqrt_s, "random walk of the heading-rate bias").min(0.0);
   o.add("gyro_bias_max_drift_rad", &c->gyro_bias_max_drift_rad, "fix the heading-rate bias at 0 if its prior turns the heading more than this between position fixes (0: always estimate)").min(0.0);
   o.add("stationary_speed_mps", &c->stationary_speed_mps, "below this speed a reported turn is the heading-rate bias (0: never)").min(0.0);
-  o.add("stationary_min_steps", &c->stationary_min_steps, "slow steps in a row turning at one rate before the zero-rate update").min(1);
   o.add("smooth_trajectory", &c->smooth_trajectory, "TRAJECTORY smoothed backwards (Rauch-Tung-Striebel); false: the filtered path");
-  o.add("smooth_max_memory_mb", &c->smooth_max_memory_mb, "memory the smoother may keep; beyond it the oldest poses stay filtered").min(0.0, false);
-  o.add("smooth_live_lag_s", &c->smooth_live_lag_s, "live TRAJECTORY requests smooth the last this many seconds of data (0: the whole path); the end of input smooths all").min(0.0);
-  o.add("calib_rerun_fraction", &c->calib_rerun_fraction, "start_pose: re-filter from the start once the bias sigma is this fraction of its prior (0: never)").min(0.0).max(1.0);
-  o.add("recover_after_gated", &c->recover_after_gated, "ranges gated in a row before the position variance is widened (0: never)").min(0);
-  o.add("recover_consistent_gated", &c->recover_consistent_gated, "ranges to one beacon gated in a row whose innovations agree within the gate before the position variance is widened (0: never)").min(0);
-  o.add("recover_consistent_fit", &c->recover_consistent_fit, "where a beacon's repeated innovation is an excess, the consistency trigger widens only where one position error explains it and the other surveyed beacons' applied ones (false: the run alone)");
-  o.add("recover_offset_reopen", &c->recover_offset_reopen, "with recover_consistent_fit: a surveyed beacon's repeated shortfall that no one position error explains and its own range offset, long by as much, would take back re-opens that offset's variance (false: widens the pose)");
-  o.add("recover_trial_ranges", &c->recover_trial_ranges, "ranges scored with and without a starvation widening before one is kept (0: widen at once)").min(0);
-  o.add("lost_beacon_gated_ranges", &c->lost_beacon_gated_ranges,
-        "a beacon placed from the ranges whose last this many ranges were all gated is re-solved from them and moved where they place it (0: never)").min(0);
-  o.add("motion_noise_max_scale", &c->motion_noise_max_scale, "largest factor on the odometry covariance after starvation").min(1.0);
-  o.add("motion_noise_decay", &c->motion_noise_decay, "factor per applied range taking the odometry covariance back to configured").min(0.0, false).max(1.0);
-  o.add("range_noise_max_scale", &c->range_noise_max_scale, "largest factor on the range variance when the NIS says the sigma is too small (1: off)").min(1.0);
   o.add("range_bias", &c->range_bias, {{"none", EkfConfig::RangeBias::kNone}, {"shared", EkfConfig::RangeBias::kShared}}, "none | shared (estimated range scale and offset)");
   o.add("range_offset_sigma_m", &c->range_offset_sigma_m, "prior sigma of the range offset (mean 0)").min(0.0, false);
   o.add("beacon_range_offset_sigma_m", &c->beacon_range_offset_sigma_m, "prior sigma of each beacon's own range offset state (mean 0; 0: no per-beacon offsets)").min(0.0);
-  o.add("range_huber_k", &c->range_huber_k, "Huber threshold of the range update in innovation sigmas (0: off)").min(0.0);
   o.add("gate_probability", &c->gate_probability, "Mahalanobis gate probability (1: no gate)").min(0.0, false).max(1.0);
-  o.add("init_min_ranges", &c->init_min_ranges, "ranges buffered before a beacon may be initialised").min(3);
-  o.add("init_min_baseline_m", &c->init_min_baseline_m, "extent of the buffered poses before initialising").min(0.0);
-  o.add("init_max_sigma_m", &c->init_max_sigma_m, "largest sigma of the batch solution accepted").min(0.0, false);
-  o.add("init_min_angle_rad", &c->init_min_angle_rad, "angle the buffered poses span seen from the beacon").min(0.0).max(M_PI);
-  o.add("init_mirror_chi2", &c->init_mirror_chi2, "chi2 margin of the best solution over its mirror").min(0.0);
-  o.add("init_max_ranges", &c->init_max_ranges, "ranges buffered per pending beacon").min(3);
-  o.add("init_window_s", &c->init_window_s, "buffered ranges older than this are dropped").min(0.0, false);
-  o.add("init_prior_inflation", &c->init_prior_inflation, "batch covariance inflation before re-applying the ranges").min(1.0, false);
-  o.add("init_window_solve", &c->init_window_solve,
-        "start pose: the early window's path and map solved jointly once every beacon seen is in the state, used where its ranges refute the dead-reckoned path");
-  o.add("init_window_block_s", &c->init_window_block_s, "the window solve's heading error is constant over blocks this long").min(0.0, false);
-  o.add("init_window_prior_inflation", &c->init_window_prior_inflation,
-        "the window solve's beacons enter with their solve's covariance times this").min(0.0, false);
   addSensorNoiseOptions(o, c);
-  o.require([c] { return c->init_max_ranges >= c->init_min_ranges; }, {"init_max_ranges", "init_min_ranges"},
-            "init_max_ranges >= init_min_ranges");
 }
 
 estimation::MotionNoise configuredMotionNoise(const EkfConfig& config, const Odometry& odo) {

@@ -10,7 +10,10 @@ namespace roam {
 namespace ekf {
 
 // The sensors' stated noise (roam/sensor_noise.hpp, the run's [sensors]: odometry noise per step,
-// range_sigma_m, bearing_sigma_rad), then the EKF's own keys.
+// range_sigma_m, bearing_sigma_rad), then the EKF's own keys. Fields marked [internal] are
+// internal constants of the algorithm, not INI keys (README, "Internal constants"): set them
+// through this struct (unit tests, studies; no bounds are checked on them); their defaults are
+// what every run uses.
 struct EkfConfig : SensorNoise {
   // start_pose: the INITIAL_POSE is exact and every beacon is initialised from ranges;
   // beacons: the BEACONS message gives a prior on each beacon (sigma beacon_sigma_m).
@@ -28,9 +31,9 @@ struct EkfConfig : SensorNoise {
   // published (multiple-model adaptive estimation). A stated odometry noise is a floor, not the
   // truth (GOATS 16 states 2 cm per edge for ~1 m). 1 model: the configured noise alone.
   int translation_noise_models = 4;
-  double translation_noise_max_factor = 10.0;  // sigma factor: 2 % -> 20 % per metre
+  double translation_noise_max_factor = 10.0;  // [internal] sigma factor: 2 % -> 20 % per metre
   // A model whose log-likelihood falls this far behind the best is dropped (a Bayes factor of
-  // e^20); 0: none is dropped.
+  // e^20); 0: none is dropped. [internal]
   double translation_noise_drop_nats = 20.0;
   // anchor = beacons: each model of the bank has a twin with gyro_bias_max_drift_rad = 0 (the
   // heading-rate bias estimated at any rate), chosen where its range log-likelihood beats the
@@ -54,16 +57,17 @@ struct EkfConfig : SensorNoise {
   // Zero-rate update below this speed (the robot stands still: its reported turn is the bias).
   double stationary_speed_mps = 0.02;
   // ... in this many steps in a row, each turning at the rate of the one before (within the gate).
+  // [internal]: one step at one rate is noise; a run of them is a standstill's bias.
   int stationary_min_steps = 5;
   // anchor = start_pose: re-filter the run once from the start when the bias sigma falls to
-  // this fraction of its prior (0: never).
+  // this fraction of its prior (0: never). [internal]
   double calib_rerun_fraction = 0.1;
   // TRAJECTORY: the filtered path smoothed backwards (Rauch-Tung-Striebel, ekf_smoother.hpp);
   // false: the filtered path. POSE messages are the filter's either way.
   bool smooth_trajectory = true;
   // What the smoother may keep (its operations grow with the run: ~1.5 kB per step with 4
   // beacons, O(state size)); past it the oldest poses keep their filtered estimate. 256 MB is
-  // ~10 h of a 5 Hz run with 4 beacons.
+  // ~10 h of a 5 Hz run with 4 beacons. [internal]
   double smooth_max_memory_mb = 256.0;
   // Live (the host's periodic TRAJECTORY request before the end of input): the backward pass
   // runs over the last smooth_live_lag_s of data only (and every pose since the previous
@@ -72,6 +76,7 @@ struct EkfConfig : SensorNoise {
   // live host. At the end of input the whole pass runs, so the final TRAJECTORY is unchanged.
   // 60 s: a range's smoothing effect on a pose fades as the odometry between them grows
   // uncertain (at UWB rates a pose is re-fixed within seconds). 0: the whole pass every time.
+  // [internal]
   double smooth_live_lag_s = 60.0;
 
   // Range noise: max(the message's sigma, range_sigma_m) (a stated sigma is a floor, not truth).
@@ -84,9 +89,10 @@ struct EkfConfig : SensorNoise {
   double beacon_range_offset_sigma_m = 1.5;
 
   // Huber threshold (innovation sigmas) of the range update: beyond it a range is down-weighted
-  // by k / |z|; 1.345 is 95 % efficient on Gaussian noise (0: plain EKF update).
+  // by k / |z|; 1.345 is 95 % efficient on Gaussian noise (0: plain EKF update). [internal]
   double range_huber_k = 1.345;
   double gate_probability = 0.999;         // Mahalanobis gate; 1 disables gating
+  // [internal], with every recover_* and lost_beacon_gated_ranges below: the recovery's triggers.
   // Starvation: after this many ranges to known beacons gated in a row, the filter is taken as
   // lost and its position variance is widened by the smallest of their squared innovations.
   int recover_after_gated = 8;
@@ -121,17 +127,20 @@ struct EkfConfig : SensorNoise {
   // init_max_ranges ranges, applied and gated, than the old. 0: never.
   int lost_beacon_gated_ranges = 12;
   // Each recovery also multiplies the odometry covariance by 4 (up to motion_noise_max_scale);
-  // each applied range multiplies it by motion_noise_decay (down to 1).
+  // each applied range multiplies it by motion_noise_decay (down to 1). [internal]: the recovery's
+  // inflation, 400 = a sigma 20 x configured; 0.95: ~27 applied ranges undo one recovery's x4.
   double motion_noise_max_scale = 400.0;
   double motion_noise_decay = 0.95;
   // Largest factor on the range variance when applied ranges' NIS averages above 2 (1: off).
+  // [internal]: a sigma up to 4 x stated.
   double range_noise_max_scale = 16.0;
-  // Delayed initialisation (anchor = start_pose, or beacons not in BEACONS).
-  int init_min_ranges = 6;
-  double init_min_baseline_m = 3.0;
-  double init_max_sigma_m = 1.0;
-  double init_min_angle_rad = 1.0;
-  double init_mirror_chi2 = 16.0;
+  // Delayed initialisation (anchor = start_pose, or beacons not in BEACONS). [internal], every
+  // init_*: the multilateration's acceptance checks and buffers (init_max_ranges >= init_min_ranges).
+  int init_min_ranges = 6;                 // more than the 4 unknowns (beacon, scale, offset)
+  double init_min_baseline_m = 3.0;        // cheap pre-check before the solve
+  double init_max_sigma_m = 1.0;           // the beacon's marginal sigma accepted
+  double init_min_angle_rad = 1.0;         // ~57 deg: range intersection dilution <= ~2
+  double init_mirror_chi2 = 16.0;          // evidence ratio e^8 ~ 3000 : 1 over the mirror
   int init_max_ranges = 200;               // buffer per pending beacon (oldest dropped)
   double init_window_s = 600.0;            // buffered ranges older than this are dropped
   double init_prior_inflation = 100.0;     // batch covariance x this = prior before re-applying
@@ -146,7 +155,8 @@ struct EkfConfig : SensorNoise {
 };
 
 // Registers every key of the [estimator.*] section with its checks (the shim calls parse();
-// EkfSlam runs the same checks on a struct with checkConfig): the only validator.
+// EkfSlam runs the same checks on a struct with checkConfig): the only validator. The [internal]
+// fields are not keys.
 void addEkfOptions(Options& options, EkfConfig* config);
 
 // The configured noise of one odometry step as the floor of estimation::incrementCovariance:

@@ -3,6 +3,9 @@
 // Every default is argued from the sensors and the maths (see README/report), never searched
 // on a benchmark run. addSpectralOptions() declares every key with its checks: the plugin shim
 // parses them, SpectralSlam checks a struct with them (checkConfig), so there is no other validator.
+// Fields marked [internal] are internal constants of the method, not INI keys (README, "Internal
+// constants"): set them through this struct (unit tests, studies; no bounds are checked on them);
+// their defaults are what every run uses.
 #pragma once
 
 #include "roam/options.hpp"
@@ -27,7 +30,7 @@ enum class SpectralMode {
 
 // The sensors' stated noise (roam/sensor_noise.hpp, the run's [sensors]): range_sigma_m scales the
 // robust fit's first (Huber) stage and the self-check; the odometry noise per step weighs the
-// whole_path gauge and the odometry smoother. Then spectral's own keys.
+// whole_path gauge and the odometry smoother. Then spectral's own keys and internal constants.
 struct SpectralConfig : SensorNoise {
   // beacons: the paper's Plaza setting (regression onto surveyed beacons) and the most accurate.
   SpectralAnchor anchor = SpectralAnchor::kBeacons;
@@ -45,6 +48,7 @@ struct SpectralConfig : SensorNoise {
   // rate: 8 beacons at 2 Hz need ~70 s), up to window_max_factor x window_s. 16 = twice
   // min_ranges_per_window, the margin the 30 s default gives 4 beacons at 2 Hz. 0: fixed window_s.
   // Batch solves only (online mode needs its window before the data arrive: window_s).
+  // [internal], these two and the three below: the interpolation's own sizes and cut-offs.
   double window_ranges_per_beacon = 16.0;
   double window_max_factor = 4.0;
   double window_overlap = 0.5;  // fraction of a window shared with the next, in [0, 1)
@@ -57,12 +61,13 @@ struct SpectralConfig : SensorNoise {
   // around obstacles read metres long, and one such range bends a window's least-squares model
   // for every pose in it. On Gaussian noise the biweight keeps 95 % of the efficiency; on
   // noise-free data it is the least-squares fit. false: the paper's plain least squares.
+  // [internal]: the switch exists for the comparison with the paper.
   bool robust_interpolation = true;
 
   // anchor = start_pose: distance travelled from the start over which the learned path is rotated
   // and translated onto dead reckoning from the start pose (scale and reflection come from the
   // whole path). With learned positions good to ~0.5 m, a 50 m stretch fixes the rotation to
-  // ~0.01 rad, while odometry (1-2 % of distance) has drifted by well under a metre.
+  // ~0.01 rad, while odometry (1-2 % of distance) has drifted by well under a metre. [internal]
   double align_m = 50.0;
   // anchor = start_pose: where the rotation comes from (start_gauge.hpp). first_stretch: one fit
   // over the first align_m. whole_path: every half-window chunk's rotation onto dead reckoning from
@@ -71,7 +76,7 @@ struct SpectralConfig : SensorNoise {
   // the whole path and the translation from the first align_m either way. Default first_stretch:
   // on fresh synthetic seeds whole_path is no better (figure-8 drift: mean 0.50 vs 0.52 m over 12
   // seeds; lawn-mower drift: 0.68 vs 0.57 m over 6): the odometry's heading random walk over the
-  // first tens of metres bounds the rotation either way (README).
+  // first tens of metres bounds the rotation either way (README). [internal]: a study switch.
   StartGaugeMode start_gauge = StartGaugeMode::kFirstStretch;
   // anchor = start_pose: after the solve (and smooth_with_odometry), pose 0 of the published path
   // is put on the start position and the path turned about it onto the calibrated dead reckoning
@@ -79,6 +84,7 @@ struct SpectralConfig : SensorNoise {
   // The solve's own frame (start_gauge) fixes the translation freely, and its first poses sit
   // 0.2-0.5 m off the start on drift figure-8 runs; the rotation about the start, on the smoothed
   // path, is what spectral_batch reaches (README "Round 7"). false: the solve's frame as is.
+  // [internal]: a study switch.
   bool gauge_about_start = true;
 
   // Final step (odometry_smoother.hpp): the solved positions, noise from their own range residuals
@@ -90,11 +96,12 @@ struct SpectralConfig : SensorNoise {
   // The smoother also estimates a correction to each heading that turns the odometry (a random
   // walk with the odometry's heading noise per step): the rank-4 local-fit headings are one-sided
   // at the path's ends and off there by 30-70 mrad (README "Round 7b"). false: headings as given.
+  // [internal]: a study switch (a sub-step of smooth_with_odometry).
   bool smoothing_corrects_headings = true;
   // The smoother takes the ranges themselves (to the solve's map, re-fitted; smoother_ranges.hpp)
   // instead of the spectral positions, which at the path's ends are one window's edge fit (README
   // "Round 8"). Not where the windows' outlier fraction makes outlier-majority windows plausible.
-  // false: the spectral positions.
+  // false: the spectral positions. [internal]: a study switch (a sub-step of smooth_with_odometry).
   bool smoothing_uses_ranges = true;
 
   // Estimate the odometry's distance scale and heading-rate (gyro) bias against the spectral
@@ -104,9 +111,10 @@ struct SpectralConfig : SensorNoise {
   // The gyro bias is taken as constant over segments this long (a continuous piecewise-linear
   // heading error; at least 6 windows each): a MEMS gyro's bias wanders with temperature and bias
   // instability over minutes, and one constant over a half-hour run would turn a late drift into
-  // an early error. A run shorter than this gets one constant bias.
+  // an early error. A run shorter than this gets one constant bias. [internal]
   double gyro_bias_segment_s = 300.0;
 
+  // [internal], everything below: the self-check's thresholds and the retries' counts and switches.
   // Self-check before anything is published (spectral_solver.hpp). The windows' median residual
   // |range - interpolated range| must be at most this x range_sigma_m: on Gaussian noise it is
   // 0.67 sigma, so 3 leaves room for a sigma set at the low end and a few outliers, while windows
@@ -146,7 +154,8 @@ struct SpectralConfig : SensorNoise {
   bool drop_range_jumps = true;
 };
 
-// Registers every key of the [estimator.*] section with its checks (the shim calls parse()).
+// Registers every key of the [estimator.*] section with its checks (the shim calls parse()). The
+// [internal] fields are not keys.
 void addSpectralOptions(Options& options, SpectralConfig* config);
 
 }  // namespace roam::spectral
