@@ -1,6 +1,8 @@
 // Configuration of the online EM SLAM core (Le Corff, Fort & Moulines 2011), with the
 // defaults and the reason for each. addOnlineEmOptions() registers every key with its check;
 // the plugin shim, the tools and the tests share it so that a key has one definition.
+// Fields marked "Internal constant" are numbers and sub-step switches of the method itself, not
+// INI keys (README "Internal constants"): C++ callers and tests set them here.
 #pragma once
 
 #include "roam/calibration_priors.hpp"
@@ -62,7 +64,7 @@ struct OnlineEmConfig {
   //   particles cannot carry more heading spread than the per-step sigma: heading noise grown
   //   with the synthetic AUV's 3 s steps (0.0112 rad) took it from 14.8 to 26.3 m, and an AUV's
   //   heading comes from a compass, whose error does not grow with the step.
-  // 0 for a bound: no share on that side.
+  // 0 for a bound: no share on that side. Internal constant: the span is 5 Hz odometry's.
   double odo_heading_step_min_s = 0.15;
   double odo_heading_step_max_s = 0.25;
   // A covariance reported with the odometry is used, each variance floored by the above
@@ -90,7 +92,8 @@ struct OnlineEmConfig {
   // or estimate_range_scale = false. From the start pose with a range scale in theta,
   // (s, range scale, map) -> (l s, range scale / l, l map) fits every range: the spread lets
   // the cloud drift along that direction (gyro-drift figure-8, start pose: s 0.94, range scale
-  // 1.066, 0.63 -> 1.00 m), so it is off there.
+  // 1.066, 0.63 -> 1.00 m), so it is off there. Internal constants: the spread follows the
+  // shared scale prior, not a sensor statement.
   double distance_scale_particle_sigma = 0.05;
   double distance_scale_particle_length_m = 20.0;
   bool scaleSpreadActive() const {
@@ -105,7 +108,8 @@ struct OnlineEmConfig {
   // it from the heading noise, and what the M-step learned for it (1e-4-1e-3 rad/s on AUV-like
   // runs with none) rotated the path by tens of metres. The shared kHeadingRateBiasMaxDrift_rad
   // (0.08 rad, roam/calibration_priors.hpp): UWB rates estimate it, AUV rates do not. Until the
-  // 20th range b is held at 0 (its statistics accumulate all along). 0: always estimate.
+  // 20th range b is held at 0 (its statistics accumulate all along). 0: always estimate. A key:
+  // the run's note tells a user with a drifting gyro and clean ranges to set it to 0.
   double heading_rate_bias_max_drift_rad = kHeadingRateBiasMaxDrift_rad;
   // A vehicle standing still does not turn. A standstill by the shared rule
   // (roam/estimation/standstill.hpp: stationary_min_steps steps in a row slower than
@@ -114,7 +118,7 @@ struct OnlineEmConfig {
   // sigma: a rate no gyro bias reaches; a turn on the spot is faster) turns the particles by 0,
   // and the calibration statistic sees its reported turn as bias alone: a stand measures b
   // before the vehicle moves. Values differ from the EKF's (0.02 m/s, 5 steps): see the README,
-  // "Round 9". 0 = never.
+  // "Round 9". 0 = never. Internal constants: thresholds of the shared standstill rule.
   double stationary_speed_mps = 0.01;
   int stationary_min_steps = 1;
   double stationary_max_turn_rate_rad_s = 0.05;
@@ -127,6 +131,7 @@ struct OnlineEmConfig {
   // the particle paths: 0.05 of the prior (5e-4 rad/s) is the EKF's 10 % of the actual
   // uncertainty. On the synthetic drift figure-8, b still wandered by ~1e-3 rad/s while that
   // sigma was 0.1 of the prior (re-run at b = 0.0106 vs 0.0100 true: 0.65 m; at 0.05: 0.51 m).
+  // Internal constants (with rerun_end_bias_sigmas): when the method re-runs itself.
   bool calibrated_rerun = true;
   double rerun_bias_sigma_fraction = 0.05;
   // At the end of input, with no calibrated re-run made: re-run with b as learned over the whole
@@ -171,14 +176,15 @@ struct OnlineEmConfig {
   // Before the backward pass, run the pose-only particle filter once more over every input
   // against the final theta (map, range scale and offsets, calibration, mixture, kappa). On
   // (since round 23): better than the plain backward pass on every synthetic beacons kind and
-  // AUV kind, plaza1-drpath and plaza1-drift (README "Round 23").
+  // AUV kind, plaza1-drpath and plaza1-drift (README "Round 23"). Internal constant: a sub-step
+  // of smooth_trajectory.
   bool trajectory_repass = true;
   // Bicycle model (paper Sec. 4.1): sigma_v (m/s), sigma_psi (rad), wheelbase B (m), and a
   // small heading jitter that makes the 2-D control noise a proper 3-D density for smoothing.
   double wheelbase_m = 1.5;
   double speed_sigma_mps = 0.5;
   double steer_sigma_rad = 0.05235987755982988;  // pi / 60
-  double heading_jitter_rad = 0.001;
+  double heading_jitter_rad = 0.001;  // internal constant: a regulariser, not the paper's model
 
   // Observation noise: delta ~ w0 N(0, sigma0^2 R) + (1 - w0) N(0, sigma1^2 R), R = [[sr^2, rho],
   // [rho, sb^2]] (range-only: sr^2). Defaults: the paper's Sec. 4.1 values (w0 0.8, sigma0 1,
@@ -213,6 +219,8 @@ struct OnlineEmConfig {
   // cover, -150 to +100 m on an AUV; its density does not depend on the particle, so an outlier
   // cannot decide which particles survive, where a 15 m Gaussian tail weighted them by
   // e^2 / sigma1^2 across a 10 m particle spread) or "gaussian" (sigma1 sr, the paper's form).
+  // Internal constant (with estimate_inlier_sigma and mixture_prior_count below): how the
+  // mixture is modelled and learned, not what the sensor states.
   enum class OutlierModel { kUniform, kGaussian };
   OutlierModel outlier_model = OutlierModel::kUniform;
   // Mixture in theta (range-only, marginal indicators): the outlier weight w1 = 1 - w0 and
@@ -242,14 +250,15 @@ struct OnlineEmConfig {
   // standard deviation sqrt(2) x its variance; the running average spans 1 / sum(weights^2)
   // ranges): without it a 10 % error in the learned range sigma, with a cloud 10x narrower
   // than the range noise, reads as kappa ~ 3. motion_noise_max_scale 10: 2 % -> 20 % of the
-  // distance, DVL-less AUV dead reckoning. Figures: README.
+  // distance, DVL-less AUV dead reckoning. Figures: README. Internal constants: the configured
+  // noise stays the user's floor; the adaptation is a step of the method.
   bool adapt_motion_noise = true;
   double motion_noise_max_scale = 10.0;
 
   // Stochastic approximation: gamma_n = c / n^alpha per landmark, n = its own observation count.
   double step_c = 1.0;
   double step_alpha = 0.8;
-  int mstep_every = 1;  // M-step after every k-th step that observed a landmark
+  int mstep_every = 1;  // M-step after every k-th step that observed a landmark (internal: Algorithm 1's 1)
 
   // Range model r = scale * |beacon - robot| + offset, (scale, offset) in the parameter theta.
   // Priors (pseudo-observations): scale ~ N(1, 0.1^2) (UWB clock/antenna errors of a few %),
@@ -262,6 +271,8 @@ struct OnlineEmConfig {
   bool estimate_range_scale = true;
   bool estimate_range_offset = false;
   // The scale's prior (about 1) is the shared kRangeScalePriorSigma (roam/calibration_priors.hpp).
+  // Internal constant: the shared offset's prior, kRangeOffsetPriorSigma_m's value (a shared
+  // calibration prior, as in the other estimators, not a key).
   double range_offset_prior_sigma_m = 1.0;
   // Prior sigma of a surveyed beacon whose covariance is not given (anchor = beacons).
   double beacon_prior_sigma_m = 0.1;
@@ -280,7 +291,9 @@ struct OnlineEmConfig {
 
   // Multilateration of a new landmark: wait for this many ranges taken from positions whose
   // spread (sqrt of the smaller eigenvalue of their covariance) is at least init_min_spread_m,
-  // so that the mirror ambiguity of a straight path is resolved.
+  // so that the mirror ambiguity of a straight path is resolved. Internal constants (as are the
+  // window solve's and the gate below); init_min_spread_fraction is a key: the rejection warning
+  // names it where an AUV's beacons are far (docs/other-robots.md).
   int init_min_ranges = 12;
   double init_min_spread_m = 3.0;
   // ... and at least this fraction of the median range: the positions must subtend a few

@@ -1,6 +1,8 @@
 // Configuration of the spectral_batch plugin (Ceres batch range-only SLAM), with the reasoning
 // behind each default. Defaults come from the sensors' stated noise and the maths, never from a
-// search on a benchmark run.
+// search on a benchmark run. Fields marked "Internal constant" are numbers and sub-step switches
+// of the method itself, not INI keys (README "Internal constants"): C++ callers and tests set
+// them here. The team solve (team_batch.hpp) uses the same struct.
 #pragma once
 
 #include "roam/calibration_priors.hpp"
@@ -40,6 +42,7 @@ struct SpectralBatchConfig : SensorNoise {
   // and a seed whose headings contradict its own positions and the odometry starts the solve in a
   // wrong basin. 10 m: ~0.3 m position noise over ~10 m of chord gives ~0.02 rad, while odometry
   // heading drifts ~0.01 rad/sqrt(m) * sqrt(5 m) ~ 0.02 rad inside the window. 0: spectral headings.
+  // Internal constant: how the seed is built.
   double seed_heading_align_m = 10.0;
 
   // anchor = beacons: INITIAL_POSE as a prior on pose 0 with these sigmas (0: none, pose 0 free).
@@ -56,6 +59,7 @@ struct SpectralBatchConfig : SensorNoise {
   // enough to average decimetre position noise to ~0.01 rad, short enough that odometry heading
   // drift after calibration stays ~0.01 rad/sqrt(m) * sqrt(50 m) ~ 0.07 rad at its end and
   // less on average). 0: the rotation the solve ends with (pose-0 heading or the seed's).
+  // Internal constant: the window's length follows the noise, as spectral's align_m.
   double gauge_align_m = 50.0;
   // Which rotation gauge (anchor = start_pose, final solve): `window` (the gauge_align_m alignment
   // above) or `pinned`: the final solution is turned so that pose 0 has the start heading (rotation
@@ -74,6 +78,7 @@ struct SpectralBatchConfig : SensorNoise {
   // ranges inliers (a seed dragged by outliers explains fewer). Elsewhere the two solves end at
   // the same cost (205 of 206 spectral-seeded runs on the sweep kinds' development seeds), and the
   // second costs more than the first (957 of 1,038 s at 10^6 steps). `always`: both, every time.
+  // Internal constants (with doubt_inlier_fraction): when the method guards its seed.
   enum class DeadReckoningSeed { kWhenInDoubt, kAlways };
   DeadReckoningSeed dead_reckoning_seed = DeadReckoningSeed::kWhenInDoubt;
   // A Gaussian range falls outside the 4-sigma inlier window once in ~16000, so a clean run's
@@ -87,7 +92,7 @@ struct SpectralBatchConfig : SensorNoise {
   // a solution that calls most of its data outliers cannot be told from a wrong basin that
   // explains a different minority (AUV-like runs: 42 % inliers and 2 x dead reckoning's error).
   // With surveyed beacons fixed, the map is outside information and the check does not apply.
-  // 0: off.
+  // 0: off. Internal constant: the breakdown point of an M-estimator, not a choice.
   double min_inlier_fraction = 0.5;
   // When a final solve fails a check above (or ends above odometry alone): true publishes dead
   // reckoning from the start pose (the odometry alone, uncalibrated, beacons multilaterated from
@@ -106,11 +111,11 @@ struct SpectralBatchConfig : SensorNoise {
   // one way (shape error after a rigid fit 0.18 m against 0.09 m with cauchy, and 2 m at the
   // start of one run).
   Loss loss = Loss::kCauchy;
-  double loss_scale = 0.0;
+  double loss_scale = 0.0;  // internal constant: the loss's own efficiency constant
   // Annealing: the robust loss starts up to loss_anneal_factor^(stages-1) times wider (at the
   // seed's robust residual spread, never under the final scale) and narrows evenly per stage, so a
   // start far from the optimum is not down-weighted into a stall. A seed at the inliers' spread
-  // is solved once, at the final scale.
+  // is solved once, at the final scale. Internal constants, as is loss_anneal_check below.
   int loss_anneal_stages = 3;
   double loss_anneal_factor = 4.0;
   // The annealing is a way to the optimum, not the objective: a wide first stage can let ranges
@@ -152,6 +157,8 @@ struct SpectralBatchConfig : SensorNoise {
   // turn the heading by more than this (rad), the ranges come too seldom to correct the heading
   // between fixes (AUV rates: GOATS 16 0.185 rad; UWB rates <= 0.06): the shared
   // kHeadingRateBiasMaxDrift_rad (roam/calibration_priors.hpp). <= 0: always dense.
+  // A key (as in online EM): the run's note tells a user with a drifting gyro and clean ranges to
+  // set it to 0.
   double heading_rate_bias_max_drift_rad = kHeadingRateBiasMaxDrift_rad;
   // anchor = start_pose where the rule above finds the ranges sparse and every odometry message
   // states a covariance: the heading noise is the stated one (floored by odo_heading_sigma_rad),
@@ -161,13 +168,14 @@ struct SpectralBatchConfig : SensorNoise {
   // well as the straight one, and outliers pick the bend: GOATS-like runs with 30 % outliers
   // landed at up to 3.6 x dead reckoning with the wheel model's 0.022 rad per 5 m step, against a
   // heading stated to 0.002 rad (true to 0.001). A log that states nothing keeps the wheel model
-  // and the window. false: the wheel model everywhere.
+  // and the window. false: the wheel model everywhere. Internal constant: a sub-step switch.
   bool sparse_heading_as_stated = true;
   // Odometry noise scale estimated from the data: after a solve, every odometry sigma times
   // k = 2, 4, ... 32 is tried, each a warm solve, while the Gaussian likelihood improves (a profile
   // likelihood over k). The configured (or reported) noise is the floor: never narrowed. A log's
   // stated noise is often its generator's setting, not the sensor's (GOATS: 2 cm per edge for
-  // odometry good to a metre). false: the configured noise as it is.
+  // odometry good to a metre). false: the configured noise as it is. Internal constant: a
+  // sub-step switch (the configured noise stays the user's floor).
   bool estimate_noise_scale = true;
 
   // Per-beacon range offsets (on top of the shared one), each with the shared zero-mean prior
@@ -183,7 +191,8 @@ struct SpectralBatchConfig : SensorNoise {
 
   // Ceres solver. Sparse normal Cholesky suits the block-tridiagonal pose chain plus a few
   // dense beacon columns. Tolerances are Ceres' own defaults tightened so exact data converges
-  // to well below a micrometre.
+  // to well below a micrometre. The iteration limit and the tolerances (when a solve stops) are
+  // internal constants; the linear solver, threads and verbosity are keys (solver resources).
   LinearSolver linear_solver = LinearSolver::kSparseNormalCholesky;  // | dense_qr | sparse_schur | iterative_schur | cgnr
   int max_iterations = 100;       // per annealing stage
   double function_tolerance = 1e-10;

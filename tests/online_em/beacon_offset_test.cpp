@@ -45,8 +45,8 @@ OffsetRun runBeacons(const Dataset& data, double offset_sigma_m, uint64_t partic
   setOptions(&config, addOnlineEmOptions,
              {{"anchor", "beacons"}, {"estimate_beacon_range_offsets", offset_sigma_m > 0.0 ? "true" : "false"},
               {"beacon_range_offset_sigma_m", std::to_string(offset_sigma_m > 0.0 ? offset_sigma_m : 1.5)},
-              {"seed", std::to_string(particle_seed)},
-              {"distance_scale_particle_sigma", std::to_string(scale_spread_sigma)}});
+              {"seed", std::to_string(particle_seed)}});
+  config.distance_scale_particle_sigma = scale_spread_sigma;  // an internal constant
   OnlineEmSlam slam(config);
   feed(data, slam);
   OffsetRun run{meanError(slam.filteredPath(), data.ground_truth), {}};

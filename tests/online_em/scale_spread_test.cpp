@@ -36,8 +36,8 @@ struct Result {
 
 Result run(const Dataset& data, const std::string& anchor, double spread_sigma) {
   OnlineEmConfig config;
-  setOptions(&config, addOnlineEmOptions,
-             {{"anchor", anchor}, {"distance_scale_particle_sigma", std::to_string(spread_sigma)}});
+  setOptions(&config, addOnlineEmOptions, {{"anchor", anchor}});
+  config.distance_scale_particle_sigma = spread_sigma;  // an internal constant
   OnlineEmSlam slam(config);
   feed(data, slam);
   return {meanError(slam.filteredPath(), data.ground_truth), slam.odometryCalibration().distance_scale,

@@ -23,7 +23,8 @@ using online_em_test::meanError;
 Path publishedTrajectory(const Dataset& data, const std::string& anchor, bool smooth, bool repass = false) {
   OnlineEmConfig config;
   setOptions(&config, addOnlineEmOptions,
-             {{"anchor", anchor}, {"smooth_trajectory", smooth ? "always" : "off"}, {"trajectory_repass", repass ? "true" : "false"}});
+             {{"anchor", anchor}, {"smooth_trajectory", smooth ? "always" : "off"}});
+  config.trajectory_repass = repass;  // an internal constant
   OnlineEmSlam slam(config);
   feed(data, slam);
   Path path;
@@ -112,7 +113,8 @@ TEST(OnlineEmSmoothing, LiveRequestsSmoothWithoutTheRepassAndTheEndRepasses) {
   const Dataset auv = sim::simulate(sim::goatsLikeWorld(2003, 250));
   OnlineEmConfig with_repass, without_repass;
   setOptions(&with_repass, addOnlineEmOptions, {{"anchor", "beacons"}});
-  setOptions(&without_repass, addOnlineEmOptions, {{"anchor", "beacons"}, {"trajectory_repass", "false"}});
+  setOptions(&without_repass, addOnlineEmOptions, {{"anchor", "beacons"}});
+  without_repass.trajectory_repass = false;
   OnlineEmSlam a(with_repass), b(without_repass);
   roam::test::FeedOptions live;
   live.finish = false;

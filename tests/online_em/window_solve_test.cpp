@@ -30,8 +30,8 @@ struct StartRun {
 
 StartRun run(const Dataset& data, bool window_solve) {
   OnlineEmConfig config;
-  setOptions(&config, addOnlineEmOptions,
-             {{"anchor", "start_pose"}, {"init_window_solve", window_solve ? "true" : "false"}});
+  setOptions(&config, addOnlineEmOptions, {{"anchor", "start_pose"}});
+  config.init_window_solve = window_solve;  // an internal constant
   OnlineEmSlam slam(config);
   feed(data, slam);
   const auto& d = slam.diagnostics();

@@ -187,8 +187,8 @@ void expectBadValue(const char* key, const char* value, const char* message) {
 
 TEST(SpectralBatchSlam, BadConfigNamesTheKey) {
   expectBadValue("loss", "welsch", "expected one of huber | cauchy | tukey | none, got 'welsch'");
-  expectBadValue("dead_reckoning_seed", "never", "expected one of when_in_doubt | always, got 'never'");
-  expectBadValue("doubt_inlier_fraction", "1.5", "expected a value <= 1, got '1.5'");
+  expectBadValue("gauge", "free", "expected one of window | pinned, got 'free'");
+  expectBadValue("range_scale_sigma", "-1", "expected a value >= 0, got '-1'");
   // A core built from a struct meets the same declared checks, naming the key.
   SpectralBatchConfig config;
   config.range_sigma_m = 0.0;
@@ -550,8 +550,10 @@ struct SeedResult {
 
 SeedResult runSpectralSeeded(const Dataset& data, const char* anchor, const char* dead_reckoning_seed) {
   SpectralBatchConfig config;
-  setOptions(&config, addSpectralBatchOptions,
-             {{"init", "spectral"}, {"anchor", anchor}, {"dead_reckoning_seed", dead_reckoning_seed}});
+  setOptions(&config, addSpectralBatchOptions, {{"init", "spectral"}, {"anchor", anchor}});
+  config.dead_reckoning_seed = std::string(dead_reckoning_seed) == "always"  // an internal constant
+                                   ? SpectralBatchConfig::DeadReckoningSeed::kAlways
+                                   : SpectralBatchConfig::DeadReckoningSeed::kWhenInDoubt;
   SpectralBatchSlam slam(config);
   test::feed(data, slam);
   SeedResult result;
